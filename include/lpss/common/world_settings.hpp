@@ -1,0 +1,26 @@
+// The parameters of a sectorized world, shared by the scene file, the engine and the cluster.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "lpss/common/expected.hpp"
+
+namespace lpss {
+
+struct WorldSettings {
+    double sector_size = 128.0;  ///< L, the sector edge
+    double dt = 1.0 / 60.0;      ///< seconds per frame
+    /// Radius within which coordinates must stay precise; 0 means no bound beyond the one L implies.
+    double precision_radius = 0.0;
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+    /// A body changes sector once its centre is past the border by this fraction of L, so that a body
+    /// resting on a border does not move back and forth between sectors.
+    double hysteresis = 1.0 / 16.0;
+    bool sleeping = true;  ///< resting bodies fall asleep and cost nothing
+};
+
+/// Refuses non-finite or non-positive sizes and steps, a hysteresis outside [0, 1/4], and a sector size
+/// that breaks the precision bound. The message names the field.
+Status validate(const WorldSettings& settings);
+
+}  // namespace lpss

@@ -1,0 +1,126 @@
+// The in-process LPSS engine: a sectorized world of rigid bodies, precise at any distance from the
+// origin. Each sector is simulated by its own physics world in sector-local coordinates; bodies near
+// borders are cloned into neighbouring sectors so that collisions across borders happen as they would
+// inside one sector. The physics engine (Bullet) stays behind this header.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "lpss/common/body_desc.hpp"
+#include "lpss/common/body_snapshot.hpp"
+#include "lpss/common/expected.hpp"
+#include "lpss/common/scene.hpp"
+#include "lpss/common/sector_grid.hpp"
+#include "lpss/common/world_settings.hpp"
+
+namespace lpss {
+
+/// How the engine runs, as opposed to what it simulates (WorldSettings).
+struct EngineOptions {
+    int threads = 1;  ///< sectors are stepped concurrently on this many threads
+    /// One physics world in global coordinates, no sectors, no clones: plain Bullet, kept for
+    /// comparison with the sectorized engine on the same scene.
+    bool monolithic = false;
+    std::size_t max_spare_clones = 4;  ///< per body, clones kept for reuse once no longer needed
+};
+
+/// Two bodies started or stopped touching. Reported with the ids of the bodies the user created,
+/// whichever sector or clone saw the contact.
+struct ContactEvent {
+    enum class Kind : std::uint8_t { Begin, End };
+    Kind kind = Kind::Begin;
+    BodyId a = 0;  ///< a < b
+    BodyId b = 0;
+    SectorPosition point;                              ///< Begin: where they touch
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< Begin: contact normal, pointing from b to a
+    double impulse = 0.0;                              ///< Begin: total normal impulse of the first step
+};
+
+/// What the last frame did and what each stage cost.
+struct FrameStats {
+    std::uint64_t frame = 0;
+    std::size_t bodies = 0;
+    std::size_t sectors = 0;          ///< sectors that exist
+    std::size_t stepped_sectors = 0;  ///< sectors simulated this frame (the others hold nothing awake)
+    std::size_t sector_changes = 0;   ///< bodies that moved to another sector
+    std::size_t border_bodies = 0;    ///< bodies whose reach crosses their sector's border
+    std::size_t clones = 0;           ///< clones in sectors, planes' per-sector instances excluded
+    std::size_t spare_clones = 0;     ///< clones kept in per-body pools for reuse
+    std::size_t touching_pairs = 0;
+    double sectorize_seconds = 0.0;
+    double clone_seconds = 0.0;
+    double step_seconds = 0.0;
+    double total_seconds = 0.0;
+};
+
+/// The clones of one body: in use in other sectors, and kept in its pool for reuse.
+struct CloneCounts {
+    std::size_t active = 0;
+    std::size_t spare = 0;
+};
+
+class World {
+public:
+    /// A world with no bodies. Refuses invalid settings (see validate(WorldSettings)).
+    static Expected<World> create(const WorldSettings& settings, const EngineOptions& options = {});
+
+    /// A world holding every body of the scene.
+    static Expected<World> create(const Scene& scene, const EngineOptions& options = {});
+
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+    ~World();
+
+    /// Adds a body; refused (the world unchanged) for an invalid body or an id already in use.
+    Status add_body(const BodyDesc& body);
+    /// Adds all the bodies or, if any is refused, none of them.
+    Status add_bodies(const std::vector<BodyDesc>& bodies);
+    /// Removes a body; refused for an unknown id.
+    Status remove_body(BodyId id);
+    /// Applies an impulse (N s, world axes) at an offset from the centre of mass; wakes the body.
+    Status apply_impulse(BodyId id, const Eigen::Vector3d& impulse,
+                         const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
+    /// Sets a dynamic body's velocities; wakes it.
+    Status set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
+
+    /// Advances the world by one frame of settings().dt.
+    void step();
+
+    /// Frames stepped so far.
+    std::uint64_t frame() const;
+    bool contains(BodyId id) const;
+    std::size_t body_count() const;
+    /// The body's current state, or nothing for an unknown id.
+    std::optional<BodySnapshot> body(BodyId id) const;
+    /// Every body's current state, ordered by id.
+    std::vector<BodySnapshot> snapshot() const;
+    /// The description the body was created from, or nothing for an unknown id.
+    std::optional<BodyDesc> description(BodyId id) const;
+
+    /// Contacts that began or ended during the last step, ordered by kind and ids.
+    const std::vector<ContactEvent>& contact_events() const;
+    const FrameStats& last_frame_stats() const;
+    /// Clone counts of a body (for tests and diagnostics), or nothing for an unknown id.
+    std::optional<CloneCounts> clone_counts(BodyId id) const;
+    /// Sectors that exist, in key order.
+    std::vector<SectorKey> sectors() const;
+
+    const WorldSettings& settings() const;
+    const EngineOptions& options() const;
+    const SectorGrid& grid() const;
+
+    /// "float" or "double": the precision of the physics engine this program was built with.
+    static const char* physics_precision();
+
+    struct Impl;
+
+private:
+    explicit World(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lpss

@@ -1,0 +1,55 @@
+// One sector: a Bullet world in sector-local coordinates plus the bookkeeping the stages need.
+#pragma once
+
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "lpss/common/body_desc.hpp"
+#include "lpss/common/sector_key.hpp"
+
+namespace lpss::engine {
+
+/// A touching pair seen by one sector's last step, with the ids the user knows.
+struct ContactRecord {
+    BodyId a = 0;  ///< a < b
+    BodyId b = 0;
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();  ///< sector-local
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    float impulse = 0.0f;
+};
+
+/// Bullet objects first, so that they are built before and destroyed after the world using them.
+/// A sector owns no bodies: originals and clones belong to their BodyRecord and are only inserted here.
+class Sector {
+public:
+    Sector(const SectorKey& key, btCollisionConfiguration* configuration, btConstraintSolver* solver,
+           const btVector3& gravity);
+    ~Sector();
+    Sector(const Sector&) = delete;
+    Sector& operator=(const Sector&) = delete;
+
+    /// Steps the Bullet world once by dt with the given solver (each thread brings its own).
+    void step(btConstraintSolver* solver, btScalar dt);
+
+    const SectorKey key;
+    btCollisionDispatcher dispatcher;
+    btDbvtBroadphase broadphase;
+    btDiscreteDynamicsWorld world;
+
+    std::vector<std::uint32_t> originals;  ///< slots of the bodies this sector owns
+    std::vector<std::uint32_t> hosted;     ///< slots of bodies with a clone or plane instance here
+    std::vector<ContactRecord> contacts;   ///< touching pairs at the last step, sorted by (a, b)
+    std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
+
+    double max_speed = 0.0;  ///< fastest original at the last step, to grow reach queries
+    bool awake = false;      ///< holds an awake dynamic original
+    bool in_awake_list = false;
+    bool stepping = false;  ///< in this frame's set of sectors to step
+};
+
+}  // namespace lpss::engine

@@ -1,0 +1,24 @@
+// Stage 1, sectorization: a body whose centre has left its sector by more than the hysteresis band
+// moves to the sector that now contains it, in that sector's local coordinates.
+#include <cmath>
+
+#include "bullet_convert.hpp"
+#include "world_impl.hpp"
+
+namespace lpss {
+
+void World::Impl::sectorize(const std::vector<std::uint32_t>& candidates) {
+    for (std::uint32_t slot : candidates) {
+        engine::BodyRecord& rec = record(slot);
+        if (!rec.dynamic) continue;
+        const btVector3& origin = rec.rb->getWorldTransform().getOrigin();
+        if (std::fabs(origin.x()) < band && std::fabs(origin.y()) < band && std::fabs(origin.z()) < band) continue;
+        // Any distance: a fast body may cross several sectors in one frame.
+        Expected<SectorPosition> to = grid.canonical(SectorPosition{rec.sector->key, engine::to_eigen(origin)});
+        if (!to.ok()) continue;  // past the edge of the grid (index 2^62): it stays where it is
+        move_body(slot, to.value());
+        ++stats.sector_changes;
+    }
+}
+
+}  // namespace lpss

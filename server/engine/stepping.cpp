@@ -1,0 +1,90 @@
+// Stage 3, stepping: every sector in this frame's step set advances by dt, concurrently. A sector is
+// only touched by the thread stepping it, and each thread brings its own solver (Debian's Bullet is
+// not thread-safe: see shared_collision_configuration.hpp). After its step a sector records, for the
+// next frame, whether it still holds anything awake, how fast its bodies move, and what touches.
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "bullet_convert.hpp"
+#include "world_impl.hpp"
+
+namespace lpss {
+
+using engine::BodyRecord;
+using engine::ContactRecord;
+using engine::Role;
+using engine::Sector;
+
+namespace {
+
+// Bullet keeps contact points up to 0.02 apart to warm-start the solver; bodies count as touching
+// from this distance on.
+constexpr btScalar kTouchDistance = btScalar(0.005);
+
+Role role_of(const btCollisionObject* object) { return static_cast<Role>(object->getUserIndex2()); }
+
+}  // namespace
+
+void World::Impl::step_sectors() {
+    const btScalar dt = static_cast<btScalar>(settings.dt);
+    pool.run(step_set.size(), [&](std::size_t index, int worker) {
+        Sector& sector = *step_set[index];
+        sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
+
+        bool awake = false;
+        double max_speed = 0.0;
+        for (std::uint32_t slot : sector.originals) {
+            const BodyRecord& rec = bodies[slot];
+            if (!rec.dynamic) continue;
+            const btRigidBody& rb = *rec.rb;
+            awake = awake || rb.isActive();
+            double speed = rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
+            max_speed = std::max(max_speed, speed);
+        }
+        sector.awake = awake;
+        sector.max_speed = max_speed;
+
+        // Touching pairs, named by the bodies' ids. Two clones touching say nothing about their
+        // originals (who meet, if at all, in their own sectors), so they are skipped.
+        sector.fresh_contacts.clear();
+        const int manifolds = sector.dispatcher.getNumManifolds();
+        for (int m = 0; m < manifolds; ++m) {
+            const btPersistentManifold* manifold = sector.dispatcher.getManifoldByIndexInternal(m);
+            const int points = manifold->getNumContacts();
+            if (points == 0) continue;
+            const btCollisionObject* o0 = manifold->getBody0();
+            const btCollisionObject* o1 = manifold->getBody1();
+            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone) continue;
+            btScalar nearest = std::numeric_limits<btScalar>::max();
+            btScalar impulse = 0;
+            btVector3 point(0, 0, 0);
+            for (int p = 0; p < points; ++p) {
+                const btManifoldPoint& contact = manifold->getContactPoint(p);
+                nearest = std::min(nearest, contact.getDistance());
+                impulse += contact.getAppliedImpulse();
+                point += contact.getPositionWorldOnB();
+            }
+            if (nearest > kTouchDistance) continue;
+            ContactRecord record;
+            record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].desc.id;
+            record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].desc.id;
+            // Bullet's normal points from body 1 to body 0, ours from b to a.
+            btVector3 normal = manifold->getContactPoint(0).m_normalWorldOnB;
+            if (record.a > record.b) {
+                std::swap(record.a, record.b);
+                normal = -normal;
+            }
+            point /= static_cast<btScalar>(points);
+            record.point = Eigen::Vector3f(float(point.x()), float(point.y()), float(point.z()));
+            record.normal = Eigen::Vector3f(float(normal.x()), float(normal.y()), float(normal.z()));
+            record.impulse = static_cast<float>(impulse);
+            sector.fresh_contacts.push_back(record);
+        }
+        std::sort(sector.fresh_contacts.begin(), sector.fresh_contacts.end(),
+                  [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    });
+}
+
+}  // namespace lpss

@@ -1,0 +1,489 @@
+// The engine's API: creating worlds, adding and removing bodies, commands and queries; the creation
+// and destruction of sectors; and the frame driver that runs the stages in order.
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "bullet_convert.hpp"
+#include "collision_shapes.hpp"
+#include "world_impl.hpp"
+
+namespace lpss {
+
+using engine::BodyRecord;
+using engine::Clone;
+using engine::Role;
+using engine::Sector;
+using engine::to_bt;
+using engine::to_eigen;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <class T>
+void erase_value(std::vector<T>& values, const T& value) {
+    auto it = std::find(values.begin(), values.end(), value);
+    if (it != values.end()) {
+        *it = values.back();
+        values.pop_back();
+    }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------
+// Construction
+
+World::Impl::Impl(const WorldSettings& s, const EngineOptions& o)
+    : settings(s),
+      options(o),
+      grid(s.sector_size),
+      band(o.monolithic ? std::numeric_limits<double>::infinity() : s.sector_size * (0.5 + s.hysteresis)),
+      // Bullet keeps contact points up to gContactBreakingThreshold apart: reach boxes are grown by twice
+      // that so that a pair is found before Bullet would start to track it.
+      reach_margin(2.0 * gContactBreakingThreshold + 0.01),
+      gravity(to_bt(s.gravity)),
+      pool(std::max(1, o.threads)) {
+    for (int t = 0; t < pool.size(); ++t) {
+        solvers.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
+    }
+}
+
+World::Impl::~Impl() {
+    // Sectors take the objects out of their Bullet worlds; the bodies' Bullet objects go afterwards.
+    sectors.clear();
+}
+
+World::World(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
+
+Expected<World> World::create(const WorldSettings& settings, const EngineOptions& options) {
+    if (Status st = validate(settings); !st) return st.error();
+    if (options.threads < 1 || options.threads > 256) {
+        return Error{"threads must be between 1 and 256, got " + std::to_string(options.threads)};
+    }
+    return World(std::make_unique<Impl>(settings, options));
+}
+
+Expected<World> World::create(const Scene& scene, const EngineOptions& options) {
+    Expected<World> world = create(scene.settings, options);
+    if (!world) return world;
+    if (Status st = world->add_bodies(scene.bodies); !st) return st.error();
+    return world;
+}
+
+const char* World::physics_precision() { return sizeof(btScalar) == sizeof(double) ? "double" : "float"; }
+
+// ---------------------------------------------------------------------------------------------------
+// Sectors
+
+Sector* World::Impl::find_sector(const SectorKey& key) const {
+    auto it = sectors.find(key);
+    return it == sectors.end() ? nullptr : it->second.get();
+}
+
+Sector& World::Impl::sector_for(const SectorKey& key) {
+    auto it = sectors.find(key);
+    if (it != sectors.end()) return *it->second;
+    auto sector = std::make_unique<Sector>(key, configuration.get(), solvers[0].get(), gravity);
+    Sector& s = *sector;
+    sectors.emplace(key, std::move(sector));
+    for (std::uint32_t slot : planes) add_plane_instance(slot, s);
+    return s;
+}
+
+void World::Impl::destroy_sector(Sector& sector) {
+    // Clones and plane instances hosted here go back to their bodies; what the sector saw touching ends.
+    for (std::size_t n = sector.hosted.size(); n-- > 0;) {
+        if (n >= sector.hosted.size()) continue;
+        std::uint32_t slot = sector.hosted[n];
+        BodyRecord& rec = record(slot);
+        if (rec.plane) {
+            auto it = std::find_if(rec.clones.begin(), rec.clones.end(),
+                                   [&](const Clone& c) { return c.host == &sector; });
+            sector.world.removeRigidBody(it->rb.get());
+            *it = std::move(rec.clones.back());
+            rec.clones.pop_back();
+            sector.hosted[n] = sector.hosted.back();
+            sector.hosted.pop_back();
+        } else {
+            release_clone(slot, sector);
+        }
+    }
+    for (const engine::ContactRecord& c : sector.contacts) count_contact(c, sector.key, -1);
+    sector.contacts.clear();
+    erase_value(awake_list, &sector);
+    erase_value(step_set, &sector);
+    sectors.erase(sector.key);
+}
+
+void World::Impl::wake(Sector& sector) {
+    sector.awake = true;
+    if (!sector.in_awake_list) {
+        sector.in_awake_list = true;
+        awake_list.push_back(&sector);
+    }
+}
+
+void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
+    BodyRecord& rec = record(slot);
+    const Plane& plane = std::get<Plane>(rec.desc.shape);
+    // The plane's constant in this sector's frame. A sector far from the plane cannot hold anything
+    // that touches it (bodies and their clones stay within about 2 L of the sector's centre), and its
+    // constant would be a large float: such sectors get no instance.
+    double constant = plane.offset + plane.normal.dot(grid.offset_in(rec.plane_anchor, sector.key));
+    if (!options.monolithic && std::fabs(constant) > 3.0 * settings.sector_size) return;
+    btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, rec.shape.get());
+    info.m_friction = static_cast<btScalar>(rec.desc.material.friction);
+    info.m_restitution = static_cast<btScalar>(rec.desc.material.restitution);
+    auto rb = std::make_unique<btRigidBody>(info);
+    rb->setUserIndex(static_cast<int>(slot));
+    rb->setUserIndex2(static_cast<int>(Role::PlaneInstance));
+    rb->setWorldTransform(btTransform(btQuaternion::getIdentity(), to_bt(plane.normal * constant)));
+    sector.world.addRigidBody(rb.get());
+    sector.hosted.push_back(slot);
+    rec.clones.push_back(Clone{&sector, std::move(rb), 0});
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Bodies
+
+Expected<std::uint32_t> World::Impl::slot_of(BodyId id) const {
+    auto it = slots.find(id);
+    if (it == slots.end()) return Error{"unknown body id " + std::to_string(id)};
+    return it->second;
+}
+
+Status World::Impl::check_new_body(const BodyDesc& body) const {
+    if (Status st = validate_body(body, settings, !options.monolithic); !st) return st;
+    if (slots.count(body.id)) return Error{describe_body(body) + ": id is used by another body"};
+    return {};
+}
+
+void World::Impl::insert_body(const BodyDesc& desc) {
+    std::uint32_t slot;
+    if (!free_slots.empty()) {
+        slot = free_slots.back();
+        free_slots.pop_back();
+    } else {
+        slot = static_cast<std::uint32_t>(bodies.size());
+        bodies.emplace_back();
+    }
+    BodyRecord& rec = record(slot);
+    rec = BodyRecord{};
+    rec.desc = desc;
+    rec.desc.orientation.normalize();
+    rec.alive = true;
+    rec.dynamic = desc.mass > 0.0;
+    rec.plane = is_plane(desc.shape);
+    rec.shape = engine::make_collision_shape(desc.shape);
+    rec.bound_radius = bounding_radius(desc.shape);
+    slots.emplace(desc.id, slot);
+
+    // Validated already: the position resolves.
+    SectorPosition where;
+    if (const auto* global = std::get_if<Eigen::Vector3d>(&desc.position)) {
+        where = options.monolithic ? SectorPosition{{}, *global} : grid.from_global(*global).value();
+    } else {
+        const auto& given = std::get<SectorPosition>(desc.position);
+        where = options.monolithic ? SectorPosition{{}, grid.to_global(given)} : grid.canonical(given).value();
+    }
+
+    if (rec.plane) {
+        std::get<Plane>(rec.desc.shape).normal.normalize();
+        rec.plane_anchor = where;
+        planes.push_back(slot);
+        for (auto& entry : sectors) add_plane_instance(slot, *entry.second);
+        return;
+    }
+
+    rec.mass = static_cast<btScalar>(desc.mass);
+    if (rec.dynamic) rec.shape->calculateLocalInertia(rec.mass, rec.inertia);
+    btRigidBody::btRigidBodyConstructionInfo info(rec.mass, nullptr, rec.shape.get(), rec.inertia);
+    info.m_friction = static_cast<btScalar>(desc.material.friction);
+    info.m_restitution = static_cast<btScalar>(desc.material.restitution);
+    rec.rb = std::make_unique<btRigidBody>(info);
+    btRigidBody& rb = *rec.rb;
+    rb.setUserIndex(static_cast<int>(slot));
+    rb.setUserIndex2(static_cast<int>(Role::Original));
+    if (desc.ccd && rec.dynamic) {
+        rb.setCcdMotionThreshold(static_cast<btScalar>(0.5 * engine::inner_radius(desc.shape)));
+        rb.setCcdSweptSphereRadius(static_cast<btScalar>(0.9 * engine::inner_radius(desc.shape)));
+    }
+    if (rec.dynamic && !settings.sleeping) rb.forceActivationState(DISABLE_DEACTIVATION);
+    rb.setWorldTransform(btTransform(to_bt(rec.desc.orientation), to_bt(where.local)));
+    rb.setInterpolationWorldTransform(rb.getWorldTransform());
+    rb.setLinearVelocity(to_bt(desc.linear_velocity));
+    rb.setAngularVelocity(to_bt(desc.angular_velocity));
+
+    Sector& sector = sector_for(where.sector);
+    sector.world.addRigidBody(&rb);
+    rec.sector = &sector;
+    rec.index_in_sector = static_cast<std::uint32_t>(sector.originals.size());
+    sector.originals.push_back(slot);
+    if (rec.dynamic) wake(sector);
+    dirty.push_back(slot);
+}
+
+Status World::add_body(const BodyDesc& body) {
+    if (Status st = impl_->check_new_body(body); !st) return st;
+    impl_->insert_body(body);
+    return {};
+}
+
+Status World::add_bodies(const std::vector<BodyDesc>& bodies) {
+    std::unordered_set<BodyId> ids;
+    for (const BodyDesc& body : bodies) {
+        if (Status st = impl_->check_new_body(body); !st) return st;
+        if (!ids.insert(body.id).second) return Error{describe_body(body) + ": id is used by another body"};
+    }
+    for (const BodyDesc& body : bodies) impl_->insert_body(body);
+    return {};
+}
+
+Status World::remove_body(BodyId id) {
+    Impl& w = *impl_;
+    Expected<std::uint32_t> found = w.slot_of(id);
+    if (!found) return found.error();
+    std::uint32_t slot = found.value();
+    BodyRecord& rec = w.record(slot);
+    if (rec.plane) {
+        for (Clone& c : rec.clones) {
+            c.host->world.removeRigidBody(c.rb.get());
+            erase_value(c.host->hosted, slot);
+            w.forget_contacts(*c.host, id);
+        }
+        rec.clones.clear();
+        erase_value(w.planes, slot);
+    } else {
+        while (!rec.clones.empty()) w.release_clone(slot, *rec.clones.back().host);
+        Sector& sector = *rec.sector;
+        w.forget_contacts(sector, id);
+        sector.world.removeRigidBody(rec.rb.get());
+        std::uint32_t moved = sector.originals.back();
+        sector.originals[rec.index_in_sector] = moved;
+        w.record(moved).index_in_sector = rec.index_in_sector;
+        sector.originals.pop_back();
+        w.set_border_cells(slot, {});
+        if (sector.originals.empty()) w.destroy_sector(sector);
+    }
+    w.dirty.erase(std::remove(w.dirty.begin(), w.dirty.end(), slot), w.dirty.end());
+    w.spare_count -= rec.spare_clones.size();
+    rec = BodyRecord{};
+    w.free_slots.push_back(slot);
+    w.slots.erase(id);
+    return {};
+}
+
+void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
+    BodyRecord& rec = record(slot);
+    Sector& from = *rec.sector;
+    Sector& dest = sector_for(to.sector);
+    btTransform transform = rec.rb->getWorldTransform();
+    transform.setOrigin(to_bt(to.local));
+    if (Clone* clone = rec.clone_in(&dest)) {
+        // The body already has a clone in its new sector: the clone becomes the original and the old
+        // original the clone. Both keep their contact manifolds, so resting contacts carry on unbroken.
+        std::swap(clone->rb, rec.rb);
+        clone->host = &from;
+        btRigidBody& now = *rec.rb;
+        const btRigidBody& before = *clone->rb;
+        now.setWorldTransform(transform);
+        now.setInterpolationWorldTransform(transform);
+        now.setLinearVelocity(before.getLinearVelocity());
+        now.setAngularVelocity(before.getAngularVelocity());
+        now.forceActivationState(before.getActivationState());
+        now.setDeactivationTime(before.getDeactivationTime());
+        now.setUserIndex2(static_cast<int>(Role::Original));
+        clone->rb->setUserIndex2(static_cast<int>(Role::Clone));
+        erase_value(dest.hosted, slot);
+        from.hosted.push_back(slot);
+    } else {
+        from.world.removeRigidBody(rec.rb.get());
+        rec.rb->setWorldTransform(transform);
+        rec.rb->setInterpolationWorldTransform(transform);
+        dest.world.addRigidBody(rec.rb.get());
+        forget_contacts(from, rec.desc.id);
+    }
+    std::uint32_t moved = from.originals.back();
+    from.originals[rec.index_in_sector] = moved;
+    record(moved).index_in_sector = rec.index_in_sector;
+    from.originals.pop_back();
+    rec.sector = &dest;
+    rec.index_in_sector = static_cast<std::uint32_t>(dest.originals.size());
+    dest.originals.push_back(slot);
+    wake(dest);
+    if (from.originals.empty()) pending_destroy.push_back(&from);
+}
+
+Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset) {
+    Impl& w = *impl_;
+    Expected<std::uint32_t> found = w.slot_of(id);
+    if (!found) return found.error();
+    BodyRecord& rec = w.record(found.value());
+    if (!impulse.allFinite() || !offset.allFinite()) {
+        return Error{describe_body(rec.desc) + ": impulse and offset must be finite"};
+    }
+    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and takes no impulse"};
+    rec.rb->activate(true);
+    rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
+    w.wake(*rec.sector);
+    w.dirty.push_back(found.value());
+    return {};
+}
+
+Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+    Impl& w = *impl_;
+    Expected<std::uint32_t> found = w.slot_of(id);
+    if (!found) return found.error();
+    BodyRecord& rec = w.record(found.value());
+    if (!linear.allFinite() || !angular.allFinite()) {
+        return Error{describe_body(rec.desc) + ": velocities must be finite"};
+    }
+    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and has no velocity"};
+    rec.rb->activate(true);
+    rec.rb->setLinearVelocity(to_bt(linear));
+    rec.rb->setAngularVelocity(to_bt(angular));
+    w.wake(*rec.sector);
+    w.dirty.push_back(found.value());
+    return {};
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The frame
+
+void World::step() { impl_->step(); }
+
+void World::Impl::step() {
+    auto start = std::chrono::steady_clock::now();
+    ++frame;
+    stats = FrameStats{};
+    stats.frame = frame;
+
+    // Only bodies of sectors stepped last frame, and bodies touched by commands, can have moved.
+    std::vector<std::uint32_t>& candidates = candidate_scratch;
+    candidates.clear();
+    for (Sector* s : step_set) {
+        s->stepping = false;
+        for (std::uint32_t slot : s->originals) {
+            if (record(slot).visit_frame != frame) {
+                record(slot).visit_frame = frame;
+                candidates.push_back(slot);
+            }
+        }
+    }
+    for (std::uint32_t slot : dirty) {
+        if (record(slot).alive && record(slot).visit_frame != frame) {
+            record(slot).visit_frame = frame;
+            candidates.push_back(slot);
+        }
+    }
+    dirty.clear();
+
+    if (!options.monolithic) sectorize(candidates);
+    for (Sector* s : pending_destroy) {
+        if (s->originals.empty()) destroy_sector(*s);
+    }
+    pending_destroy.clear();
+    auto sectorized = std::chrono::steady_clock::now();
+
+    clone_stage(candidates);
+    auto cloned = std::chrono::steady_clock::now();
+
+    step_sectors();
+    auto stepped = std::chrono::steady_clock::now();
+
+    merge_contacts();
+
+    stats.sectorize_seconds = std::chrono::duration<double>(sectorized - start).count();
+    stats.clone_seconds = std::chrono::duration<double>(cloned - sectorized).count();
+    stats.step_seconds = std::chrono::duration<double>(stepped - cloned).count();
+    stats.bodies = slots.size();
+    stats.sectors = sectors.size();
+    stats.stepped_sectors = step_set.size();
+    stats.border_bodies = border_bodies;
+    stats.clones = clone_count;
+    stats.spare_clones = spare_count;
+    stats.touching_pairs = touching.size();
+    stats.total_seconds = seconds_since(start);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Queries
+
+BodySnapshot World::Impl::snapshot_of(const BodyRecord& rec) const {
+    BodySnapshot out;
+    out.id = rec.desc.id;
+    if (rec.plane) {
+        out.position = rec.plane_anchor;
+        out.orientation = rec.desc.orientation;
+        return out;
+    }
+    const btRigidBody& rb = *rec.rb;
+    out.position = SectorPosition{rec.sector->key, to_eigen(rb.getWorldTransform().getOrigin())};
+    out.orientation = to_eigen(rb.getWorldTransform().getRotation());
+    out.linear_velocity = to_eigen(rb.getLinearVelocity());
+    out.angular_velocity = to_eigen(rb.getAngularVelocity());
+    out.awake = rec.dynamic && rb.isActive();
+    return out;
+}
+
+std::uint64_t World::frame() const { return impl_->frame; }
+bool World::contains(BodyId id) const { return impl_->slots.count(id) != 0; }
+std::size_t World::body_count() const { return impl_->slots.size(); }
+
+std::optional<BodySnapshot> World::body(BodyId id) const {
+    Expected<std::uint32_t> slot = impl_->slot_of(id);
+    if (!slot) return std::nullopt;
+    return impl_->snapshot_of(impl_->record(slot.value()));
+}
+
+std::vector<BodySnapshot> World::snapshot() const {
+    std::vector<BodySnapshot> out;
+    out.reserve(impl_->slots.size());
+    for (const BodyRecord& rec : impl_->bodies) {
+        if (rec.alive) out.push_back(impl_->snapshot_of(rec));
+    }
+    std::sort(out.begin(), out.end(), [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
+    return out;
+}
+
+std::optional<BodyDesc> World::description(BodyId id) const {
+    Expected<std::uint32_t> slot = impl_->slot_of(id);
+    if (!slot) return std::nullopt;
+    return impl_->record(slot.value()).desc;
+}
+
+const std::vector<ContactEvent>& World::contact_events() const { return impl_->events; }
+const FrameStats& World::last_frame_stats() const { return impl_->stats; }
+
+std::optional<CloneCounts> World::clone_counts(BodyId id) const {
+    Expected<std::uint32_t> slot = impl_->slot_of(id);
+    if (!slot) return std::nullopt;
+    const BodyRecord& rec = impl_->record(slot.value());
+    if (rec.plane) return CloneCounts{0, 0};
+    return CloneCounts{rec.clones.size(), rec.spare_clones.size()};
+}
+
+std::vector<SectorKey> World::sectors() const {
+    std::vector<SectorKey> out;
+    out.reserve(impl_->sectors.size());
+    for (const auto& entry : impl_->sectors) out.push_back(entry.first);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+const WorldSettings& World::settings() const { return impl_->settings; }
+const EngineOptions& World::options() const { return impl_->options; }
+const SectorGrid& World::grid() const { return impl_->grid; }
+
+}  // namespace lpss

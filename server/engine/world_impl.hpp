@@ -1,0 +1,120 @@
+// The engine's state and its stages. One frame runs, in order: sectorize (sectorize.cpp), clone
+// (cloning.cpp), step (stepping.cpp), then merges contacts (contacts.cpp). world.cpp holds the API:
+// adding and removing bodies, commands, queries.
+#pragma once
+
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "body_record.hpp"
+#include "lpss/engine/world.hpp"
+#include "sector.hpp"
+#include "shared_collision_configuration.hpp"
+#include "thread_pool.hpp"
+
+namespace lpss {
+
+struct World::Impl {
+    Impl(const WorldSettings& settings, const EngineOptions& options);
+    ~Impl();
+
+    // ---- one frame
+    void step();
+    void sectorize(const std::vector<std::uint32_t>& candidates);
+    void clone_stage(const std::vector<std::uint32_t>& candidates);
+    void step_sectors();
+    void merge_contacts();
+
+    // ---- sectors
+    engine::Sector* find_sector(const SectorKey& key) const;
+    engine::Sector& sector_for(const SectorKey& key);  ///< finds or creates
+    void destroy_sector(engine::Sector& sector);
+    void wake(engine::Sector& sector);
+
+    // ---- bodies
+    Status check_new_body(const BodyDesc& body) const;
+    void insert_body(const BodyDesc& body);
+    void move_body(std::uint32_t slot, const SectorPosition& to);
+    Expected<std::uint32_t> slot_of(BodyId id) const;
+    BodySnapshot snapshot_of(const engine::BodyRecord& record) const;
+    void add_plane_instance(std::uint32_t slot, engine::Sector& sector);
+
+    // ---- cloning (cloning.cpp)
+    void update_reach(std::uint32_t slot);
+    void set_border_cells(std::uint32_t slot, std::vector<SectorKey> cells);
+    void evaluate_cell(const SectorKey& cell);
+    void require(std::uint32_t slot, engine::Sector* target);
+    engine::Clone& create_clone(std::uint32_t slot, engine::Sector& host);
+    void release_clone(std::uint32_t slot, engine::Sector& host);
+    void sync_clone(const engine::BodyRecord& record, engine::Clone& clone) const;
+
+    // ---- contacts (contacts.cpp)
+    void forget_contacts(engine::Sector& sector, BodyId id);
+    void count_contact(const engine::ContactRecord& contact, const SectorKey& where, int delta);
+
+    engine::BodyRecord& record(std::uint32_t slot) { return bodies[slot]; }
+    const engine::BodyRecord& record(std::uint32_t slot) const { return bodies[slot]; }
+
+    WorldSettings settings;
+    EngineOptions options;
+    SectorGrid grid;
+    double band = 0.0;       ///< a centre this far from its sector's centre (on an axis) changes sector
+    double reach_margin = 0.0;  ///< contact distance added to every reach box
+    btVector3 gravity;
+
+    engine::SharedCollisionConfiguration configuration;
+    std::vector<std::unique_ptr<btSequentialImpulseConstraintSolver>> solvers;  ///< one per thread
+    engine::ThreadPool pool;
+
+    std::unordered_map<SectorKey, std::unique_ptr<engine::Sector>, SectorKeyHash> sectors;
+    std::vector<engine::BodyRecord> bodies;  ///< by slot; slots are reused through free_slots
+    std::vector<std::uint32_t> free_slots;
+    std::unordered_map<BodyId, std::uint32_t> slots;
+    std::vector<std::uint32_t> planes;
+
+    /// Border registry: for each sector key, the foreign bodies whose reach enters it.
+    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> border_registry;
+    std::size_t border_bodies = 0;
+
+    std::vector<std::uint32_t> dirty;            ///< bodies changed by commands since the last step
+    std::vector<engine::Sector*> awake_list;     ///< sectors that may hold awake originals
+    std::vector<engine::Sector*> step_set;       ///< sectors stepped this (or the last) frame
+    std::vector<engine::Sector*> pending_destroy;
+
+    // Scratch, kept to avoid allocation per frame.
+    std::vector<std::uint32_t> candidate_scratch;
+    std::vector<std::uint32_t> found_scratch;
+    std::vector<std::pair<engine::Aabb, std::uint32_t>> box_scratch;
+    std::vector<SectorKey> live_cells;
+    std::vector<SectorKey> evaluated_cells;
+    std::vector<std::pair<engine::Sector*, std::uint32_t>> requirements;
+
+    struct PairHash {
+        std::size_t operator()(const std::pair<BodyId, BodyId>& p) const {
+            return std::hash<BodyId>()(p.first * 0x9E3779B97F4A7C15ULL ^ p.second);
+        }
+    };
+    /// How many sectors currently report each touching pair: a pair begins at 1 and ends at 0.
+    std::unordered_map<std::pair<BodyId, BodyId>, int, PairHash> touching;
+    /// A pair whose count changed since the last events were made: its count before, and where and how
+    /// it was first seen touching (for the Begin event).
+    struct PairChange {
+        int before = 0;
+        engine::ContactRecord record;
+        SectorKey where;
+        bool seen = false;
+    };
+    std::unordered_map<std::pair<BodyId, BodyId>, PairChange, PairHash> changed_pairs;
+    std::vector<ContactEvent> events;  ///< of the last step, and of commands before it
+
+    std::size_t clone_count = 0;
+    std::size_t spare_count = 0;
+    std::uint64_t frame = 0;
+    FrameStats stats;
+};
+
+}  // namespace lpss
