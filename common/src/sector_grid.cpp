@@ -6,9 +6,16 @@
 namespace lpss {
 namespace {
 
+// Sign of x - (index + shift) * L, exact for |index| < 2^52 (index + 1/2 is then a double and the
+// fused multiply-add rounds once, which keeps the sign).
+double border_side(double x, std::int64_t index, double shift, double size) {
+    return std::fma(-(static_cast<double>(index) + shift), size, x);
+}
+
 // Index and offset along one axis. The candidate from floor(x / L + 1/2) can be off by one where the
-// division or the addition rounds; the fused multiply-add gives x - index * L with a single rounding,
-// so checking it against the half-open cell corrects the candidate exactly.
+// division or the addition rounds. The fused multiply-add gives x - index * L with a single rounding,
+// whose comparison with +-L/2 is exact except when it rounds onto the border itself: then the side of
+// the border is decided on x - (index +- 1/2) * L directly.
 bool split_axis(double x, double size, double half, std::int64_t& index, double& local) {
     double q = std::floor(x / size + 0.5);
     if (!std::isfinite(q) || std::fabs(q) > static_cast<double>(kMaxSectorIndex)) {
@@ -16,10 +23,10 @@ bool split_axis(double x, double size, double half, std::int64_t& index, double&
     }
     index = static_cast<std::int64_t>(q);
     local = std::fma(-static_cast<double>(index), size, x);
-    if (local >= half) {
+    if (local > half || (local == half && border_side(x, index, 0.5, size) >= 0.0)) {
         ++index;
         local = std::fma(-static_cast<double>(index), size, x);
-    } else if (local < -half) {
+    } else if (local < -half || (local == -half && border_side(x, index, -0.5, size) < 0.0)) {
         --index;
         local = std::fma(-static_cast<double>(index), size, x);
     }

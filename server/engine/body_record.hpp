@@ -39,6 +39,9 @@ struct BodyRecord {
     double bound_radius = 0.0;
 
     Sector* sector = nullptr;  ///< owner sector; none for a plane
+    /// Position of the original in its owner sector's frame, in double: the float engine's position is
+    /// this rounded (see World::Impl::integrate_positions).
+    Eigen::Vector3d local = Eigen::Vector3d::Zero();
     std::uint32_t index_in_sector = 0;
 
     // A plane exists in every sector near it: dot(normal, p - anchor) = offset.

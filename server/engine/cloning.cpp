@@ -51,7 +51,7 @@ void World::Impl::update_reach(std::uint32_t slot) {
     const btRigidBody& rb = *rec.rb;
     btVector3 lo, hi;
     rb.getCollisionShape()->getAabb(rb.getWorldTransform(), lo, hi);
-    Aabb box{to_eigen(lo), to_eigen(hi)};
+    Aabb box{rec.sector->from_physics(lo), rec.sector->from_physics(hi)};
     if (rec.dynamic) {
         const double dt = settings.dt;
         Eigen::Vector3d travel = to_eigen(rb.getLinearVelocity()) * dt;
@@ -129,6 +129,7 @@ void World::Impl::evaluate_cell(const SectorKey& cell) {
         for (std::uint32_t y : foreign) {
             const BodyRecord& ry = record(y);
             Aabb query = ry.reach.translated(grid.centre_offset(cell, ry.sector->key)).grown(grow);
+            query = query.translated(-sector->anchor);
             found_scratch.clear();
             OriginalsInBox collect(found_scratch);
             sector->broadphase.aabbTest(to_bt(query.min), to_bt(query.max), collect);
@@ -295,7 +296,7 @@ void World::Impl::sync_clone(const BodyRecord& rec, Clone& clone) const {
     const btRigidBody& original = *rec.rb;
     btRigidBody& copy = *clone.rb;
     btTransform transform = original.getWorldTransform();
-    transform.setOrigin(transform.getOrigin() + to_bt(grid.centre_offset(clone.host->key, rec.sector->key)));
+    transform.setOrigin(clone.host->to_physics(rec.local + grid.centre_offset(clone.host->key, rec.sector->key)));
     copy.setWorldTransform(transform);
     copy.setInterpolationWorldTransform(transform);
     copy.setLinearVelocity(original.getLinearVelocity());

@@ -65,7 +65,7 @@ void World::Impl::merge_contacts() {
             event.kind = ContactEvent::Kind::Begin;
             event.a = key.first;
             event.b = key.second;
-            event.point = SectorPosition{change.where, change.record.point.cast<double>()};
+            event.point = SectorPosition{change.where, change.record.point};
             event.normal = change.record.normal.cast<double>();
             event.impulse = change.record.impulse;
             events.push_back(event);

@@ -2,9 +2,13 @@
 
 namespace lpss::engine {
 
-Sector::Sector(const SectorKey& k, btCollisionConfiguration* configuration, btConstraintSolver* solver,
-               const btVector3& gravity)
-    : key(k), dispatcher(configuration), broadphase(), world(&dispatcher, &broadphase, solver, configuration) {
+Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfiguration* configuration,
+               btConstraintSolver* solver, const btVector3& gravity)
+    : key(k),
+      anchor(a),
+      dispatcher(configuration),
+      broadphase(),
+      world(&dispatcher, &broadphase, solver, configuration) {
     world.setGravity(gravity);
     // Bodies are placed, moved and read by the engine directly: no interpolation of motion states.
     world.setSynchronizeAllMotionStates(false);
@@ -18,6 +22,23 @@ Sector::~Sector() {
     // world does not touch them while it is torn down.
     btCollisionObjectArray& objects = world.getCollisionObjectArray();
     for (int n = objects.size() - 1; n >= 0; --n) world.removeCollisionObject(objects[n]);
+}
+
+void Sector::move_anchor(const Eigen::Vector3d& to) {
+    // Anchors are multiples of a power of two no finer than the float spacing at the sector's scale, so
+    // the shift is exact for every coordinate it applies to; contact manifolds keep body-relative
+    // points and refresh their world points at the next step.
+    const btVector3 shift = to_bt(to - anchor);
+    anchor = to;
+    btCollisionObjectArray& objects = world.getCollisionObjectArray();
+    for (int n = 0; n < objects.size(); ++n) {
+        btCollisionObject* object = objects[n];
+        btTransform t = object->getWorldTransform();
+        t.setOrigin(t.getOrigin() - shift);
+        object->setWorldTransform(t);
+        object->setInterpolationWorldTransform(t);
+        world.updateSingleAabb(object);
+    }
 }
 
 void Sector::step(btConstraintSolver* solver, btScalar dt) {

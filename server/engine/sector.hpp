@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bullet_convert.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
 
@@ -18,7 +19,7 @@ namespace lpss::engine {
 struct ContactRecord {
     BodyId a = 0;  ///< a < b
     BodyId b = 0;
-    Eigen::Vector3f point = Eigen::Vector3f::Zero();  ///< sector-local
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< sector-local
     Eigen::Vector3f normal = Eigen::Vector3f::Zero();
     float impulse = 0.0f;
 };
@@ -27,8 +28,8 @@ struct ContactRecord {
 /// A sector owns no bodies: originals and clones belong to their BodyRecord and are only inserted here.
 class Sector {
 public:
-    Sector(const SectorKey& key, btCollisionConfiguration* configuration, btConstraintSolver* solver,
-           const btVector3& gravity);
+    Sector(const SectorKey& key, const Eigen::Vector3d& anchor, btCollisionConfiguration* configuration,
+           btConstraintSolver* solver, const btVector3& gravity);
     ~Sector();
     Sector(const Sector&) = delete;
     Sector& operator=(const Sector&) = delete;
@@ -36,7 +37,18 @@ public:
     /// Steps the Bullet world once by dt with the given solver (each thread brings its own).
     void step(btConstraintSolver* solver, btScalar dt);
 
+    /// A sector-local position in the Bullet world's frame, and back.
+    btVector3 to_physics(const Eigen::Vector3d& local) const { return to_bt(local - anchor); }
+    Eigen::Vector3d from_physics(const btVector3& p) const { return anchor + to_eigen(p); }
+
+    /// Moves the Bullet world's origin to a new anchor: every object in it is shifted.
+    void move_anchor(const Eigen::Vector3d& to);
+
     const SectorKey key;
+    /// Where, in sector-local coordinates, the Bullet world's origin sits. It follows the sector's
+    /// bodies so that the floats Bullet computes with stay as small as the spread of those bodies,
+    /// not as large as their offset from the sector's centre.
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     btCollisionDispatcher dispatcher;
     btDbvtBroadphase broadphase;
     btDiscreteDynamicsWorld world;

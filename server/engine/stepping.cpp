@@ -5,6 +5,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "bullet_convert.hpp"
@@ -27,6 +28,33 @@ Role role_of(const btCollisionObject* object) { return static_cast<Role>(object-
 
 }  // namespace
 
+void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
+    const Sector& sector = *rec.sector;
+    btTransform& transform = rec.rb->getWorldTransform();
+    const btVector3 moved = transform.getOrigin();
+    if (!precise_positions) {
+        rec.local = sector.from_physics(moved);
+        return;
+    }
+    // Per axis: if the float displacement Bullet made equals velocity * dt to within the float spacing
+    // there, it is that motion plus rounding, and the motion is added in double; otherwise something
+    // else moved the body (a contact's push-out, a clamped continuous-collision motion) and Bullet's
+    // displacement is taken as it is. The float position is then the double one, rounded once, so
+    // rounding never accumulates over frames in free flight.
+    const btVector3& velocity = rec.rb->getLinearVelocity();
+    const btVector3 start = sector.to_physics(rec.local);
+    for (int a = 0; a < 3; ++a) {
+        const btScalar before = start[a];
+        const double displaced = static_cast<double>(moved[a]) - static_cast<double>(before);
+        const double by_velocity = static_cast<double>(velocity[a]) * static_cast<double>(dt);
+        const double spacing = static_cast<double>(std::numeric_limits<btScalar>::epsilon()) *
+                               std::max(std::fabs(static_cast<double>(moved[a])), std::fabs(static_cast<double>(before)));
+        rec.local[a] += std::fabs(displaced - by_velocity) <= spacing ? by_velocity : displaced;
+    }
+    transform.setOrigin(sector.to_physics(rec.local));
+    rec.rb->setInterpolationWorldTransform(transform);
+}
+
 void World::Impl::step_sectors() {
     const btScalar dt = static_cast<btScalar>(settings.dt);
     pool.run(step_set.size(), [&](std::size_t index, int worker) {
@@ -36,9 +64,12 @@ void World::Impl::step_sectors() {
         bool awake = false;
         double max_speed = 0.0;
         for (std::uint32_t slot : sector.originals) {
-            const BodyRecord& rec = bodies[slot];
+            BodyRecord& rec = bodies[slot];
             if (!rec.dynamic) continue;
-            const btRigidBody& rb = *rec.rb;
+            btRigidBody& rb = *rec.rb;
+            // Every dynamic original, not only the awake ones: a body that fell asleep during this step
+            // still moved in it.
+            track_position(rec, dt);
             awake = awake || rb.isActive();
             double speed = rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
             max_speed = std::max(max_speed, speed);
@@ -77,13 +108,15 @@ void World::Impl::step_sectors() {
                 normal = -normal;
             }
             point /= static_cast<btScalar>(points);
-            record.point = Eigen::Vector3f(float(point.x()), float(point.y()), float(point.z()));
+            record.point = sector.from_physics(point);
             record.normal = Eigen::Vector3f(float(normal.x()), float(normal.y()), float(normal.z()));
             record.impulse = static_cast<float>(impulse);
             sector.fresh_contacts.push_back(record);
         }
         std::sort(sector.fresh_contacts.begin(), sector.fresh_contacts.end(),
                   [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+        // Last: moving the anchor leaves the manifolds' world points stale until the next step.
+        follow_bodies(sector);
     });
 }
 

@@ -49,6 +49,10 @@ World::Impl::Impl(const WorldSettings& s, const EngineOptions& o)
       // Bullet keeps contact points up to gContactBreakingThreshold apart: reach boxes are grown by twice
       // that so that a pair is found before Bullet would start to track it.
       reach_margin(2.0 * gContactBreakingThreshold + 0.01),
+      precise_positions(o.double_positions && !o.monolithic),
+      // A power of two, about L/64: far coarser than the float spacing inside a sector, so shifting by
+      // an anchor is exact, and fine enough to keep the bodies' coordinates small.
+      anchor_quantum(o.floating_origins && !o.monolithic ? std::ldexp(1.0, std::ilogb(s.sector_size) - 6) : 0.0),
       gravity(to_bt(s.gravity)),
       pool(std::max(1, o.threads)) {
     for (int t = 0; t < pool.size(); ++t) {
@@ -91,10 +95,39 @@ Sector* World::Impl::find_sector(const SectorKey& key) const {
     return it == sectors.end() ? nullptr : it->second.get();
 }
 
-Sector& World::Impl::sector_for(const SectorKey& key) {
+Eigen::Vector3d World::Impl::anchor_near(const Eigen::Vector3d& local) const {
+    if (anchor_quantum == 0.0) return Eigen::Vector3d::Zero();
+    return (local / anchor_quantum).array().round() * anchor_quantum;
+}
+
+void World::Impl::follow_bodies(Sector& sector) {
+    // The anchor follows the centre of the box around the sector's originals once that centre has moved
+    // by more than L/16: rarely enough to cost nothing, often enough that Bullet's coordinates stay
+    // within the bodies' own spread.
+    if (anchor_quantum == 0.0 || sector.originals.empty()) return;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    for (std::uint32_t slot : sector.originals) {
+        lo = lo.cwiseMin(record(slot).local);
+        hi = hi.cwiseMax(record(slot).local);
+    }
+    Eigen::Vector3d centre = 0.5 * (lo + hi);
+    if ((centre - sector.anchor).cwiseAbs().maxCoeff() <= settings.sector_size / 16.0) return;
+    sector.move_anchor(anchor_near(centre));
+    // Originals are placed again from their double positions, so that no rounding is added.
+    for (std::uint32_t slot : sector.originals) {
+        btRigidBody& rb = *record(slot).rb;
+        rb.getWorldTransform().setOrigin(sector.to_physics(record(slot).local));
+        rb.setInterpolationWorldTransform(rb.getWorldTransform());
+        sector.world.updateSingleAabb(&rb);
+    }
+}
+
+Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& first_local) {
     auto it = sectors.find(key);
     if (it != sectors.end()) return *it->second;
-    auto sector = std::make_unique<Sector>(key, configuration.get(), solvers[0].get(), gravity);
+    auto sector =
+        std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(), solvers[0].get(), gravity);
     Sector& s = *sector;
     sectors.emplace(key, std::move(sector));
     for (std::uint32_t slot : planes) add_plane_instance(slot, s);
@@ -142,6 +175,7 @@ void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
     // constant would be a large float: such sectors get no instance.
     double constant = plane.offset + plane.normal.dot(grid.offset_in(rec.plane_anchor, sector.key));
     if (!options.monolithic && std::fabs(constant) > 3.0 * settings.sector_size) return;
+    constant -= plane.normal.dot(sector.anchor);
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, rec.shape.get());
     info.m_friction = static_cast<btScalar>(rec.desc.material.friction);
     info.m_restitution = static_cast<btScalar>(rec.desc.material.restitution);
@@ -220,12 +254,14 @@ void World::Impl::insert_body(const BodyDesc& desc) {
         rb.setCcdSweptSphereRadius(static_cast<btScalar>(0.9 * engine::inner_radius(desc.shape)));
     }
     if (rec.dynamic && !settings.sleeping) rb.forceActivationState(DISABLE_DEACTIVATION);
-    rb.setWorldTransform(btTransform(to_bt(rec.desc.orientation), to_bt(where.local)));
-    rb.setInterpolationWorldTransform(rb.getWorldTransform());
     rb.setLinearVelocity(to_bt(desc.linear_velocity));
     rb.setAngularVelocity(to_bt(desc.angular_velocity));
 
-    Sector& sector = sector_for(where.sector);
+    Sector& sector = sector_for(where.sector, where.local);
+    // Without double positions the engine holds what Bullet holds: the position rounded to btScalar.
+    rec.local = precise_positions ? where.local : sector.from_physics(sector.to_physics(where.local));
+    rb.setWorldTransform(btTransform(to_bt(rec.desc.orientation), sector.to_physics(where.local)));
+    rb.setInterpolationWorldTransform(rb.getWorldTransform());
     sector.world.addRigidBody(&rb);
     rec.sector = &sector;
     rec.index_in_sector = static_cast<std::uint32_t>(sector.originals.size());
@@ -287,9 +323,10 @@ Status World::remove_body(BodyId id) {
 void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     BodyRecord& rec = record(slot);
     Sector& from = *rec.sector;
-    Sector& dest = sector_for(to.sector);
+    Sector& dest = sector_for(to.sector, to.local);
     btTransform transform = rec.rb->getWorldTransform();
-    transform.setOrigin(to_bt(to.local));
+    transform.setOrigin(dest.to_physics(to.local));
+    rec.local = precise_positions ? to.local : dest.from_physics(transform.getOrigin());
     if (Clone* clone = rec.clone_in(&dest)) {
         // The body already has a clone in its new sector: the clone becomes the original and the old
         // original the clone. Both keep their contact manifolds, so resting contacts carry on unbroken.
@@ -429,7 +466,7 @@ BodySnapshot World::Impl::snapshot_of(const BodyRecord& rec) const {
         return out;
     }
     const btRigidBody& rb = *rec.rb;
-    out.position = SectorPosition{rec.sector->key, to_eigen(rb.getWorldTransform().getOrigin())};
+    out.position = SectorPosition{rec.sector->key, rec.local};
     out.orientation = to_eigen(rb.getWorldTransform().getRotation());
     out.linear_velocity = to_eigen(rb.getLinearVelocity());
     out.angular_velocity = to_eigen(rb.getAngularVelocity());

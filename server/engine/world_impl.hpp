@@ -27,11 +27,16 @@ struct World::Impl {
     void sectorize(const std::vector<std::uint32_t>& candidates);
     void clone_stage(const std::vector<std::uint32_t>& candidates);
     void step_sectors();
+    void track_position(engine::BodyRecord& record, btScalar dt) const;
     void merge_contacts();
 
     // ---- sectors
     engine::Sector* find_sector(const SectorKey& key) const;
-    engine::Sector& sector_for(const SectorKey& key);  ///< finds or creates
+    /// Finds or creates a sector; a new sector's anchor is placed near `first_local`, the sector-local
+    /// position of the body that brings it into being.
+    engine::Sector& sector_for(const SectorKey& key, const Eigen::Vector3d& first_local);
+    Eigen::Vector3d anchor_near(const Eigen::Vector3d& local) const;
+    void follow_bodies(engine::Sector& sector);
     void destroy_sector(engine::Sector& sector);
     void wake(engine::Sector& sector);
 
@@ -64,6 +69,8 @@ struct World::Impl {
     SectorGrid grid;
     double band = 0.0;       ///< a centre this far from its sector's centre (on an axis) changes sector
     double reach_margin = 0.0;  ///< contact distance added to every reach box
+    bool precise_positions = true;  ///< EngineOptions::double_positions, off in monolithic mode
+    double anchor_quantum = 0.0;    ///< anchors are multiples of this power of two; 0: anchors stay at 0
     btVector3 gravity;
 
     engine::SharedCollisionConfiguration configuration;

@@ -26,6 +26,16 @@ struct EngineOptions {
     /// comparison with the sectorized engine on the same scene.
     bool monolithic = false;
     std::size_t max_spare_clones = 4;  ///< per body, clones kept for reuse once no longer needed
+    /// Keep each body's sector-local position in double and let the physics engine's float position
+    /// be its rounding: motion that Bullet's velocity explains is integrated in double, so float
+    /// rounding no longer accumulates over frames. Off: plain float Bullet in sector-local coordinates.
+    /// No effect in monolithic mode.
+    bool double_positions = true;
+    /// Let each sector's physics world keep its origin near the sector's bodies (a quantised anchor
+    /// that follows their bounding box) instead of at the sector's centre, so that the floats the
+    /// physics engine computes with are as small as at the world origin. Off: the paper's sector-centred
+    /// frames. No effect in monolithic mode.
+    bool floating_origins = true;
 };
 
 /// Two bodies started or stopped touching. Reported with the ids of the bodies the user created,

@@ -1,0 +1,171 @@
+#include "lpss/common/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace lpss {
+namespace {
+
+const char* kGoodScene = R"(
+sector_size: 128
+precision_radius: 1000
+gravity { y: -9.81 }
+bodies {
+  id: 1 name: "ground"
+  shape { plane { normal { y: 2 } offset: 0 } }
+}
+bodies {
+  id: 2 name: "ball"
+  shape { sphere { radius: 0.5 } }
+  mass: 1
+  position { global { x: 1e12 y: 3 z: -1 } }
+  orientation { w: 2 }
+}
+bodies {
+  id: 3 name: "far crate"
+  shape { box { half_extents { x: 1 y: 1 z: 1 } } }
+  mass: 10
+  position { sector { i: 4611686018427387000 j: 0 k: -7 local { x: 70 } } }
+  material { friction: 0.2 restitution: 0.1 }
+  ccd: true
+}
+)";
+
+Scene good_scene() { return parse_scene(kGoodScene, "good").value(); }
+
+// Parses the good scene with one body field replaced, and returns the error message ("" if accepted).
+std::string refusal(const std::string& text) {
+    Expected<Scene> scene = parse_scene(text, "test");
+    return scene.ok() ? std::string() : scene.error().message;
+}
+
+TEST(Scene, ParsesFieldsAndDefaults) {
+    Scene s = good_scene();
+    EXPECT_EQ(s.settings.sector_size, 128);
+    EXPECT_DOUBLE_EQ(s.settings.dt, 1.0 / 60.0);  // absent: 1/60
+    EXPECT_EQ(s.settings.precision_radius, 1000);
+    EXPECT_EQ(s.settings.gravity, Eigen::Vector3d(0, -9.81, 0));
+    ASSERT_EQ(s.bodies.size(), 3u);
+    const Plane& plane = std::get<Plane>(s.bodies[0].shape);
+    EXPECT_EQ(plane.normal, Eigen::Vector3d::UnitY()) << "normal normalised";
+    EXPECT_TRUE(s.bodies[0].is_static());
+    const BodyDesc& ball = s.bodies[1];
+    EXPECT_EQ(std::get<Eigen::Vector3d>(ball.position), Eigen::Vector3d(1e12, 3, -1));
+    EXPECT_EQ(ball.orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs()) << "quaternion normalised";
+    EXPECT_EQ(ball.material.friction, 0.5) << "absent material: defaults";
+    const BodyDesc& crate = s.bodies[2];
+    const auto& sp = std::get<SectorPosition>(crate.position);
+    EXPECT_EQ(sp.sector, (SectorKey{4611686018427387000, 0, -7}));
+    EXPECT_EQ(sp.local.x(), 70);
+    EXPECT_EQ(crate.material.restitution, 0.1);
+    EXPECT_TRUE(crate.ccd);
+    EXPECT_EQ(s.bodies[0].orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs()) << "absent: identity";
+}
+
+TEST(Scene, FormatThenParseGivesTheSameScene) {
+    Scene s = good_scene();
+    Scene again = parse_scene(format_scene(s), "formatted").value();
+    ASSERT_EQ(again.bodies.size(), s.bodies.size());
+    EXPECT_EQ(again.settings.dt, s.settings.dt);
+    for (std::size_t n = 0; n < s.bodies.size(); ++n) {
+        EXPECT_EQ(again.bodies[n].id, s.bodies[n].id);
+        EXPECT_EQ(again.bodies[n].name, s.bodies[n].name);
+        EXPECT_EQ(again.bodies[n].mass, s.bodies[n].mass);
+        EXPECT_EQ(again.bodies[n].position.index(), s.bodies[n].position.index());
+    }
+    EXPECT_EQ(std::get<SectorPosition>(again.bodies[2].position).sector.i, 4611686018427387000);
+    EXPECT_EQ(std::get<Eigen::Vector3d>(again.bodies[1].position).x(), 1e12);
+}
+
+TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
+    std::string e = refusal("sector_size: 128\nbodies { id: 1 shape { sphere { radius: } } }\n");
+    EXPECT_NE(e.find("test:2:"), std::string::npos) << e;
+    e = refusal("sector_size: 128\nbodys { }\n");
+    EXPECT_NE(e.find("bodys"), std::string::npos) << e;
+}
+
+TEST(Scene, RefusesBadSettings) {
+    EXPECT_NE(refusal("dt: 0.01").find("sector_size"), std::string::npos);
+    EXPECT_NE(refusal("sector_size: -5").find("sector_size must be a finite number > 0, got -5"), std::string::npos);
+    EXPECT_NE(refusal("sector_size: 128 dt: 0").find("dt"), std::string::npos);
+    EXPECT_NE(refusal("sector_size: inf").find("sector_size"), std::string::npos);
+    std::string e = refusal("sector_size: 1024 precision_radius: 1000");
+    EXPECT_NE(e.find("largest sector_size allowed is 384.9"), std::string::npos) << e;
+    EXPECT_NE(refusal("sector_size: 128 gravity { y: nan }").find("gravity"), std::string::npos);
+    EXPECT_NE(refusal("sector_size: 128 hysteresis: 0.6").find("hysteresis"), std::string::npos);
+}
+
+struct BadBody {
+    const char* body;       // the body's fields
+    const char* expected;   // text the error must contain (body name and field)
+};
+
+class RefusesBadBody : public ::testing::TestWithParam<BadBody> {};
+
+TEST_P(RefusesBadBody, WithAnErrorNamingBodyAndField) {
+    std::string text = std::string("sector_size: 128\nbodies { id: 1 name: \"ok\" shape { sphere { radius: 1 } } mass: 1 }\n"
+                                   "bodies { name: \"bad\" ") + GetParam().body + " }\n";
+    std::string e = refusal(text);
+    ASSERT_FALSE(e.empty()) << "accepted: " << GetParam().body;
+    EXPECT_NE(e.find(GetParam().expected), std::string::npos) << e;
+    EXPECT_NE(e.find("body 'bad'"), std::string::npos) << e;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scene, RefusesBadBody,
+    ::testing::Values(
+        BadBody{"id: 2 shape { sphere { radius: nan } } mass: 1", "shape.sphere.radius is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 0 } } mass: 1", "shape.sphere.radius must be > 0"},
+        BadBody{"id: 2 shape { box { half_extents { x: 1 y: -1 z: 1 } } } mass: 1", "shape.box.half_extents.y must be > 0"},
+        BadBody{"id: 2 shape { capsule { radius: 1 height: -2 } } mass: 1", "shape.capsule.height must be >= 0"},
+        BadBody{"id: 2 shape { convex_hull { points { x: 1 } points { y: 1 } points { z: 1 } } } mass: 1",
+                "shape.convex_hull.points needs at least 4 points"},
+        BadBody{"id: 2 shape { convex_hull { points { x: 1 } points { y: 1 } points { x: 1 y: 1 } points { } } } mass: 1",
+                "flat or collinear"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: -1", "mass must be >= 0, got -1"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: inf", "mass is not finite"},
+        BadBody{"id: 1 shape { sphere { radius: 1 } } mass: 1", "id is used by another body"},
+        BadBody{"shape { sphere { radius: 1 } } mass: 1", "id must be non-zero"},
+        BadBody{"id: 2 shape { box { half_extents { x: 50 y: 50 z: 10 } } } mass: 1", "more than sector_size 128"},
+        BadBody{"id: 2 shape { sphere { radius: 64.5 } }", "more than sector_size 128"},
+        BadBody{"id: 2 shape { plane { normal { y: 1 } } } mass: 3", "a plane must be static"},
+        BadBody{"id: 2 shape { plane { normal { } } }", "shape.plane.normal must be a finite non-zero vector"},
+        BadBody{"id: 2 mass: 1", "shape is missing"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: nan } }", "position.global is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: 1e300 } }", "beyond sector index 2^62"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { sector { i: 4611686018427387905 } }",
+                "position.sector has an index beyond 2^62"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { sector { local { z: -inf } } }",
+                "position.sector.local is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { w: 0 }", "orientation is a zero quaternion"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { x: nan w: 1 }", "orientation is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 linear_velocity { y: nan }", "linear_velocity is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { y: inf }", "angular_velocity is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { friction: -1 }", "material.friction must be >= 0"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { restitution: 1.5 }",
+                "material.restitution must be <= 1"}));
+
+TEST(Scene, MonolithicScenesMayHoldBodiesLargerThanASector) {
+    const char* text = "sector_size: 128 bodies { id: 1 shape { sphere { radius: 100 } } mass: 1 }";
+    EXPECT_FALSE(parse_scene(text, "t", true).ok());
+    EXPECT_TRUE(parse_scene(text, "t", false).ok());
+}
+
+TEST(Scene, ListsEveryProblemFound) {
+    std::string e = refusal(
+        "sector_size: 128 bodies { id: 1 name: \"a\" shape { sphere { radius: -1 } } mass: -2 }"
+        " bodies { id: 1 name: \"b\" shape { sphere { radius: 1 } } }");
+    EXPECT_NE(e.find("body 'a' (id 1): shape.sphere.radius"), std::string::npos) << e;
+    EXPECT_NE(e.find("body 'a' (id 1): mass"), std::string::npos) << e;
+    EXPECT_NE(e.find("body 'b' (id 1): id is used"), std::string::npos) << e;
+}
+
+TEST(Scene, LoadReportsAMissingFile) {
+    Expected<Scene> s = load_scene("/nonexistent/scene.textproto");
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("cannot open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lpss

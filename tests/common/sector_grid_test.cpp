@@ -1,0 +1,143 @@
+#include "lpss/common/sector_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace lpss {
+namespace {
+
+TEST(SectorGrid, OriginAndCentredCells) {
+    SectorGrid grid(128.0);
+    auto p = grid.from_global({0, 0, 0}).value();
+    EXPECT_EQ(p.sector, (SectorKey{0, 0, 0}));
+    EXPECT_EQ(p.local, Eigen::Vector3d::Zero());
+    p = grid.from_global({63.9, -63.9, 100}).value();
+    EXPECT_EQ(p.sector, (SectorKey{0, 0, 1}));
+    EXPECT_DOUBLE_EQ(p.local.x(), 63.9);
+    EXPECT_DOUBLE_EQ(p.local.y(), -63.9);
+    EXPECT_DOUBLE_EQ(p.local.z(), 100 - 128);
+}
+
+TEST(SectorGrid, BordersAreHalfOpen) {
+    SectorGrid grid(128.0);
+    // [-L/2, L/2): the lower border belongs to the cell, the upper border to the next one.
+    auto p = grid.from_global({64, -64, 192}).value();
+    EXPECT_EQ(p.sector, (SectorKey{1, 0, 2}));
+    EXPECT_EQ(p.local, Eigen::Vector3d(-64, -64, -64));
+    p = grid.from_global({std::nextafter(64.0, 0.0), std::nextafter(-64.0, -100.0), -192}).value();
+    EXPECT_EQ(p.sector, (SectorKey{0, -1, -1}));
+    EXPECT_EQ(p.local.x(), std::nextafter(64.0, 0.0));
+    EXPECT_EQ(p.local.y(), std::nextafter(-64.0, -100.0) + 128.0);
+    EXPECT_EQ(p.local.z(), -64.0);
+}
+
+TEST(SectorGrid, NegativeCoordinates) {
+    SectorGrid grid(100.0);
+    auto p = grid.from_global({-50.0, -150.0, -1234.5}).value();
+    EXPECT_EQ(p.sector, (SectorKey{0, -1, -12}));
+    EXPECT_DOUBLE_EQ(p.local.x(), -50.0);
+    EXPECT_DOUBLE_EQ(p.local.y(), -50.0);
+    EXPECT_DOUBLE_EQ(p.local.z(), -34.5);
+}
+
+TEST(SectorGrid, CornerWhereEightSectorsMeet) {
+    SectorGrid grid(128.0);
+    const double e = 1e-9;
+    int seen = 0;
+    for (int i = 0; i < 2; ++i) {
+        for (int j = 0; j < 2; ++j) {
+            for (int k = 0; k < 2; ++k) {
+                Eigen::Vector3d x(64 + (i ? e : -e), 64 + (j ? e : -e), 64 + (k ? e : -e));
+                auto p = grid.from_global(x).value();
+                EXPECT_EQ(p.sector, (SectorKey{i, j, k}));
+                EXPECT_LE(p.local.cwiseAbs().maxCoeff(), 64.0);
+                EXPECT_EQ(grid.to_global(p), x) << "round trip at the corner";
+                ++seen;
+            }
+        }
+    }
+    EXPECT_EQ(seen, 8);
+}
+
+TEST(SectorGrid, RoundTripIsExactWhereDoublesCanHoldThePosition) {
+    for (double size : {1.0, 64.0, 128.0, 1000.0, 1024.0, 0.1}) {
+        SectorGrid grid(size);
+        for (double x : {0.0, 1e-7, -3.75, 1e3, -1e6, 16777216.0, 1e9 + 0.25, -1e12 - 0.5, 1e15, 123456789.123}) {
+            // Where x / L passes 2^52 a double cannot tell one sector from the next: beyond the reach of
+            // global positions (scenes give sector positions there).
+            if (std::fabs(x) / size > std::ldexp(1.0, 52)) continue;
+            auto p = grid.from_global({x, -x, x * 0.5}).value();
+            EXPECT_EQ(grid.to_global(p), Eigen::Vector3d(x, -x, x * 0.5)) << "size " << size << " x " << x;
+            EXPECT_LT(p.local.x(), size / 2);
+            EXPECT_GE(p.local.x(), -size / 2);
+        }
+    }
+}
+
+TEST(SectorGrid, IndexComputedDespiteRoundingOfTheDivision) {
+    // x / L + 1/2 rounds up to an integer for the largest double below the border: the index must
+    // still be the lower one, with the local offset just below L/2.
+    SectorGrid grid(0.1);
+    double x = std::nextafter(0.05, 0.0);
+    auto p = grid.from_global({x, 0, 0}).value();
+    EXPECT_EQ(p.sector.i, 0);
+    EXPECT_EQ(p.local.x(), x);
+    EXPECT_LT(p.local.x(), 0.05);
+}
+
+TEST(SectorGrid, IndicesNear2Pow62) {
+    SectorGrid grid(128.0);
+    const std::int64_t big = kMaxSectorIndex - 3;
+    SectorPosition p{{big, -big, big}, {63.5, -64.0, 10.25}};
+    auto c = grid.canonical(p).value();
+    EXPECT_EQ(c.sector, p.sector);
+    EXPECT_EQ(c.local, p.local);
+
+    // Offsets outside the cell move to the neighbour by exact key arithmetic.
+    auto moved = grid.canonical({{big, -big, big}, {64.0 + 128.0 * 2, -64.5, 0}}).value();
+    EXPECT_EQ(moved.sector, (SectorKey{big + 3, -big - 1, big}));
+    EXPECT_EQ(moved.local, Eigen::Vector3d(-64.0, 63.5, 0));
+
+    // Past the edge of the grid: refused.
+    EXPECT_FALSE(grid.canonical({{kMaxSectorIndex, 0, 0}, {64.0, 0, 0}}).ok());
+    EXPECT_FALSE(grid.canonical({{kMaxSectorIndex + 1, 0, 0}, {0, 0, 0}}).ok());
+
+    // Differences between keys at opposite ends of the grid do not overflow.
+    Eigen::Vector3d d = grid.centre_offset({-kMaxSectorIndex, 0, 0}, {kMaxSectorIndex, 0, 0});
+    EXPECT_EQ(d.x(), std::ldexp(1.0, 63) * 128.0);
+    // Neighbouring sectors far out are exactly L apart.
+    EXPECT_EQ(grid.centre_offset({big, big, big}, {big + 1, big - 1, big}), Eigen::Vector3d(128, -128, 0));
+    // A sector position near 2^62 seen from its neighbour's frame.
+    EXPECT_EQ(grid.offset_in({{big + 1, big, big}, {-60, 1, 2}}, {big, big, big}), Eigen::Vector3d(68, 1, 2));
+}
+
+TEST(SectorGrid, GlobalPositionsBeyondTheGridAreRefused) {
+    SectorGrid grid(1.0);
+    EXPECT_TRUE(grid.from_global({4e18, 0, 0}).ok());
+    auto far = grid.from_global({1e19, 0, 0});
+    ASSERT_FALSE(far.ok());
+    EXPECT_NE(far.error().message.find("2^62"), std::string::npos);
+}
+
+TEST(SectorGrid, NonFiniteIsRefusedWithANamedError) {
+    SectorGrid grid(128.0);
+    for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+        auto p = grid.from_global({1, bad, 2});
+        ASSERT_FALSE(p.ok());
+        EXPECT_NE(p.error().message.find("not finite"), std::string::npos);
+        EXPECT_FALSE(grid.canonical({{0, 0, 0}, {bad, 0, 0}}).ok());
+    }
+}
+
+TEST(PrecisionBound, LargestSectorForARadius) {
+    EXPECT_NEAR(max_sector_size(1000.0), 2000.0 / (3.0 * std::sqrt(3.0)), 1e-12);
+    EXPECT_TRUE(check_sector_size(384.0, 1000.0).ok());
+    Status refused = check_sector_size(400.0, 1000.0);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("384.9"), std::string::npos) << refused.error().message;
+}
+
+}  // namespace
+}  // namespace lpss

@@ -1,0 +1,189 @@
+// Collisions across sector borders and corners match the same collisions inside one sector; clones
+// come and go with the bodies' reach, from bounded pools.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine_test_support.hpp"
+
+namespace lpss {
+namespace {
+
+using testing::make_world;
+using testing::relative_positions;
+using testing::run;
+using testing::summed_error;
+
+constexpr double kL = 128.0;
+
+// Runs a scene made by `make` at `centre` and at the origin (inside sector 0) and returns the summed
+// error between the two runs' positions relative to their centres.
+template <class Make>
+double error_against_origin(Make make, const scenes::Centre& centre, int frames, std::size_t* max_clones = nullptr) {
+    World reference = make_world(make(scenes::Centre(Eigen::Vector3d::Zero().eval())));
+    World moved = make_world(make(centre));
+    std::size_t clones = 0;
+    for (int f = 0; f < frames; ++f) {
+        reference.step();
+        moved.step();
+        clones = std::max(clones, moved.last_frame_stats().clones);
+        EXPECT_EQ(reference.last_frame_stats().clones, 0u) << "the reference must not touch a border";
+    }
+    if (max_clones) *max_clones = clones;
+    return summed_error(relative_positions(moved, centre), relative_positions(reference, Eigen::Vector3d::Zero().eval()));
+}
+
+TEST(Borders, CollisionOnAFaceMatchesTheOneInsideASector) {
+    for (int axis = 0; axis < 3; ++axis) {
+        Eigen::Vector3d dir = Eigen::Vector3d::Unit(axis);
+        Eigen::Vector3d border = 0.5 * kL * dir;  // the spheres meet exactly on the face x_axis = L/2
+        std::size_t clones = 0;
+        double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL, dir); },
+                                            border, 180, &clones);
+        EXPECT_LE(error, 2e-3) << "axis " << axis;
+        EXPECT_GE(clones, 2u) << "the collision must have been simulated through clones";
+    }
+}
+
+TEST(Borders, CollisionOnAFaceFarFromTheOriginMatches) {
+    // The same face crossing at sector indices near 2^60.
+    const std::int64_t far = (std::int64_t{1} << 60) + 11;
+    SectorPosition border{{far, 3, -far}, {0.5 * kL, 0, 0}};
+    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL); }, border, 180);
+    EXPECT_LE(error, 2e-3);
+}
+
+TEST(Borders, MomentumAndSpeedsAcrossABorderMatchOneSector) {
+    World inside = make_world(scenes::sphere_pair(Eigen::Vector3d::Zero().eval(), kL));
+    World across = make_world(scenes::sphere_pair(Eigen::Vector3d(0.5 * kL, 0, 0), kL));
+    run(inside, 180);
+    run(across, 180);
+    for (BodyId id : {BodyId{1}, BodyId{2}}) {
+        EXPECT_NEAR(across.body(id)->linear_velocity.x(), inside.body(id)->linear_velocity.x(), 1e-4);
+    }
+    Eigen::Vector3d momentum = across.body(1)->linear_velocity + across.body(2)->linear_velocity;
+    EXPECT_LE(momentum.norm(), 1e-5);
+    // After the bounce the spheres live in two different sectors.
+    EXPECT_NE(across.body(1)->position.sector, across.body(2)->position.sector);
+}
+
+TEST(Borders, DiagonalCollisionThroughACornerOfEightSectors) {
+    Eigen::Vector3d corner = Eigen::Vector3d::Constant(0.5 * kL);
+    Eigen::Vector3d diagonal = Eigen::Vector3d::Ones().normalized();
+    double error = error_against_origin(
+        [&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL, diagonal); }, corner, 180);
+    EXPECT_LE(error, 2e-3);
+}
+
+TEST(Borders, EightSpheresMeetingAtACornerOfEightSectors) {
+    Eigen::Vector3d corner = Eigen::Vector3d::Constant(0.5 * kL);
+    std::size_t clones = 0;
+    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_octet(c, kL); }, corner,
+                                        120, &clones);
+    EXPECT_LE(error, 8 * 2e-3);
+    EXPECT_GE(clones, 8u * 3u) << "each sphere meets three neighbours in three other sectors";
+}
+
+TEST(Borders, ContactEventsCarryTheOriginalIds) {
+    World world = make_world(scenes::sphere_pair(Eigen::Vector3d(0.5 * kL, 0, 0), kL));
+    int begun = 0, ended = 0;
+    for (int f = 0; f < 180; ++f) {
+        world.step();
+        for (const ContactEvent& e : world.contact_events()) {
+            EXPECT_EQ(e.a, 1u);
+            EXPECT_EQ(e.b, 2u);
+            if (e.kind == ContactEvent::Kind::Begin) {
+                ++begun;
+                Eigen::Vector3d point = world.grid().to_global(e.point);
+                EXPECT_NEAR(point.x(), 0.5 * kL, 0.1) << "where the spheres meet, on the border";
+                EXPECT_NEAR(e.normal.x(), -1.0, 1e-3) << "from b (right) to a (left)";
+                EXPECT_GT(e.impulse, 0.0);
+            } else {
+                ++ended;
+            }
+        }
+    }
+    EXPECT_EQ(begun, 1) << "seen by both sectors, reported once";
+    EXPECT_EQ(ended, 1);
+}
+
+TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
+    // Two spheres side by side across the border x = L/2, 1.5 apart in y: within reach, not touching.
+    Scene scene;
+    scene.settings.sector_size = kL;
+    for (int n = 0; n < 2; ++n) {
+        BodyDesc b;
+        b.id = static_cast<BodyId>(n + 1);
+        b.shape = Sphere{0.5};
+        b.mass = 1;
+        b.position = Eigen::Vector3d(0.5 * kL + (n ? 0.3 : -0.3), n * 1.05, 0);
+        scene.bodies.push_back(b);
+    }
+    World world = make_world(scene);
+    world.step();
+    EXPECT_EQ(world.clone_counts(1)->active, 1u);
+    EXPECT_EQ(world.clone_counts(2)->active, 1u);
+    // Body 1 leaves towards -x; body 2 stays (awake, at rest).
+    ASSERT_TRUE(world.set_velocity(1, {-20, 0, 0}, {0, 0, 0}).ok());
+    run(world, 30);
+    EXPECT_EQ(world.clone_counts(1)->active, 0u);
+    EXPECT_EQ(world.clone_counts(2)->active, 0u);
+    EXPECT_EQ(world.clone_counts(1)->spare, 1u) << "the clone went back to the pool";
+    EXPECT_EQ(world.last_frame_stats().clones, 0u);
+    EXPECT_EQ(world.last_frame_stats().border_bodies, 1u) << "body 2 still reaches across, alone";
+}
+
+TEST(Clones, PoolsStayBoundedOver10000FramesOfOscillation) {
+    // Two spheres bounce between static walls on either side of the border x = L/2, on parallel tracks
+    // 1.05 apart, at different speeds: they cross the border over and over, cloned into each other's
+    // sector whenever they are on different sides, and the walls are cloned to meet them.
+    Scene scene;
+    scene.settings.sector_size = kL;
+    scene.settings.sleeping = false;
+    const double border = 0.5 * kL;
+    for (int n = 0; n < 2; ++n) {
+        BodyDesc wall;
+        wall.id = static_cast<BodyId>(10 + n);
+        wall.shape = Box{{0.5, 4, 4}};
+        wall.position = Eigen::Vector3d(border + (n ? 14.0 : -14.0), 0, 0);
+        wall.material = Material{0, 1};
+        scene.bodies.push_back(wall);
+        BodyDesc ball;
+        ball.id = static_cast<BodyId>(1 + n);
+        ball.shape = Sphere{0.5};
+        ball.mass = 1;
+        ball.position = Eigen::Vector3d(border - 5 + 3 * n, n * 1.05, 0);
+        ball.linear_velocity = Eigen::Vector3d(n ? 9.0 : 13.0, 0, 0);
+        ball.material = Material{0, 1};
+        scene.bodies.push_back(ball);
+    }
+    World world = make_world(scene);
+    std::size_t changes = 0, max_clones = 0, max_spare = 0;
+    for (int f = 0; f < 10000; ++f) {
+        world.step();
+        const FrameStats& s = world.last_frame_stats();
+        changes += s.sector_changes;
+        max_clones = std::max(max_clones, s.clones);
+        max_spare = std::max(max_spare, s.spare_clones);
+        for (BodyId id : {1, 2, 10, 11}) {
+            CloneCounts c = *world.clone_counts(id);
+            ASSERT_LE(c.active, 3u) << "frame " << f << " body " << id;
+            ASSERT_LE(c.spare, world.options().max_spare_clones);
+        }
+    }
+    // Round trips of 52 units at 13 and 9 units/s over 166 s, two sector changes each: about 140.
+    EXPECT_GT(changes, 100u) << "the spheres must really have crossed the border many times";
+    EXPECT_GE(max_clones, 2u);
+    EXPECT_LE(max_clones, 8u);
+    EXPECT_LE(max_spare, 4u * world.options().max_spare_clones);
+    // They still bounce between the walls: nothing lost, nothing tunnelled.
+    for (BodyId id : {1, 2}) {
+        double x = world.grid().to_global(world.body(id)->position).x();
+        EXPECT_GT(x, border - 14.0);
+        EXPECT_LT(x, border + 14.0);
+        EXPECT_GT(world.body(id)->linear_velocity.norm(), id == 1 ? 10.0 : 7.0) << "still bouncing";
+    }
+}
+
+}  // namespace
+}  // namespace lpss

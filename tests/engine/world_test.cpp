@@ -1,0 +1,235 @@
+// The engine's API and its cost rules: bad input is refused with the world unchanged; sectors come and
+// go with their bodies; a scene needing no cloning or stepping gets none; threads change nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine_test_support.hpp"
+
+namespace lpss {
+namespace {
+
+using testing::make_world;
+using testing::run;
+
+BodyDesc ball(BodyId id, const Eigen::Vector3d& at, double radius = 0.5) {
+    BodyDesc b;
+    b.id = id;
+    b.name = "ball" + std::to_string(id);
+    b.shape = Sphere{radius};
+    b.mass = 1;
+    b.position = at;
+    return b;
+}
+
+bool same_state(const std::vector<BodySnapshot>& a, const std::vector<BodySnapshot>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t n = 0; n < a.size(); ++n) {
+        if (a[n].id != b[n].id || a[n].position.sector != b[n].position.sector ||
+            a[n].position.local != b[n].position.local || a[n].orientation.coeffs() != b[n].orientation.coeffs() ||
+            a[n].linear_velocity != b[n].linear_velocity || a[n].angular_velocity != b[n].angular_velocity) {
+            return false;
+        }
+    }
+    return true;
+}
+
+World empty_world(double sector_size = 128.0, const EngineOptions& options = {}) {
+    WorldSettings s;
+    s.sector_size = sector_size;
+    s.gravity = {0, -9.81, 0};
+    Expected<World> w = World::create(s, options);
+    EXPECT_TRUE(w.ok());
+    return std::move(w).value();
+}
+
+TEST(World, RefusesBadSettings) {
+    WorldSettings s;
+    s.sector_size = 1024;
+    s.precision_radius = 1000;
+    Expected<World> w = World::create(s);
+    ASSERT_FALSE(w.ok());
+    EXPECT_NE(w.error().message.find("largest sector_size allowed"), std::string::npos);
+    s = WorldSettings{};
+    s.dt = std::nan("");
+    EXPECT_FALSE(World::create(s).ok());
+    EXPECT_FALSE(World::create(WorldSettings{}, EngineOptions{0}).ok());
+}
+
+TEST(World, BadBodiesAreRefusedAndTheWorldIsUnchanged) {
+    World world = empty_world();
+    ASSERT_TRUE(world.add_body(ball(1, {0, 5, 0})).ok());
+    ASSERT_TRUE(world.add_body(ball(2, {100, 5, 0})).ok());
+    run(world, 3);
+    const std::vector<BodySnapshot> before = world.snapshot();
+    const std::vector<SectorKey> sectors_before = world.sectors();
+
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<std::pair<BodyDesc, std::string>> bad;
+    bad.push_back({ball(3, {nan, 0, 0}), "position.global is not finite"});
+    bad.push_back({ball(3, {0, 0, 0}, 70.0), "more than sector_size 128"});
+    bad.push_back({ball(1, {0, 0, 0}), "id is used by another body"});
+    BodyDesc heavy_plane;
+    heavy_plane.id = 4;
+    heavy_plane.shape = Plane{};
+    heavy_plane.mass = 1;
+    bad.push_back({heavy_plane, "a plane must be static"});
+    BodyDesc negative = ball(5, {0, 0, 0});
+    negative.mass = -1;
+    bad.push_back({negative, "mass must be >= 0"});
+    for (const auto& [body, message] : bad) {
+        Status st = world.add_body(body);
+        ASSERT_FALSE(st.ok()) << message;
+        EXPECT_NE(st.error().message.find(message), std::string::npos) << st.error().message;
+    }
+    // All or nothing: one bad body among good ones adds none of them.
+    Status st = world.add_bodies({ball(6, {1, 1, 1}), ball(7, {2, nan, 2}), ball(8, {500, 1, 1})});
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.error().message.find("body 'ball7' (id 7): position.global is not finite"), std::string::npos);
+    EXPECT_FALSE(world.add_bodies({ball(6, {1, 1, 1}), ball(6, {3, 1, 1})}).ok()) << "duplicate within the batch";
+
+    // Commands on unknown bodies or with bad numbers.
+    EXPECT_NE(world.remove_body(99).error().message.find("unknown body id 99"), std::string::npos);
+    EXPECT_FALSE(world.apply_impulse(99, {1, 0, 0}).ok());
+    EXPECT_NE(world.apply_impulse(1, {nan, 0, 0}).error().message.find("must be finite"), std::string::npos);
+    EXPECT_NE(world.set_velocity(2, {0, 0, 0}, {0, INFINITY, 0}).error().message.find("must be finite"),
+              std::string::npos);
+
+    EXPECT_TRUE(same_state(world.snapshot(), before));
+    EXPECT_EQ(world.sectors(), sectors_before);
+    EXPECT_EQ(world.body_count(), 2u);
+}
+
+TEST(World, SectorsAreCreatedOnFirstUseAndDestroyedWhenEmpty) {
+    World world = empty_world();
+    EXPECT_TRUE(world.sectors().empty());
+    ASSERT_TRUE(world.add_body(ball(1, {0, 0, 0})).ok());
+    ASSERT_TRUE(world.add_body(ball(2, {1000, -300, 5e9})).ok());
+    std::vector<SectorKey> sectors = world.sectors();
+    ASSERT_EQ(sectors.size(), 2u);
+    EXPECT_EQ(sectors[0], (SectorKey{0, 0, 0}));
+    ASSERT_TRUE(world.remove_body(1).ok());
+    EXPECT_EQ(world.sectors().size(), 1u);
+    // A body flying across sectors leaves no empty sector behind.
+    ASSERT_TRUE(world.set_velocity(2, {600, 0, 0}, {0, 0, 0}).ok());
+    run(world, 60);
+    EXPECT_EQ(world.sectors().size(), 1u);
+    EXPECT_EQ(world.sectors()[0], world.body(2)->position.sector);
+    EXPECT_GE(world.body(2)->position.sector.i - 8, 3) << "it crossed several sectors";
+}
+
+TEST(World, AFastBodyCrossesSeveralSectorsInOneFrame) {
+    WorldSettings s;
+    s.sector_size = 16;
+    World world = World::create(s).value();
+    BodyDesc b = ball(1, {0, 0, 0});
+    b.linear_velocity = {3000, 0, -1500};  // 50 and 25 units per frame: 3 and 1.5 sectors
+    ASSERT_TRUE(world.add_body(b).ok());
+    run(world, 10);
+    BodySnapshot after = *world.body(1);
+    Eigen::Vector3d global = world.grid().to_global(after.position);
+    EXPECT_NEAR(global.x(), 500.0, 1e-3);
+    EXPECT_NEAR(global.z(), -250.0, 1e-3);
+    EXPECT_LE(after.position.local.cwiseAbs().maxCoeff(), 8.0 + 1.0 + 50.0);
+    EXPECT_EQ(world.sectors().size(), 1u);
+}
+
+TEST(World, NoBordersNoCloningWork) {
+    World world = empty_world();
+    for (int n = 0; n < 20; ++n) ASSERT_TRUE(world.add_body(ball(n + 1, {n * 384.0 + 7, 0, -n * 640.0 - 3})).ok());
+    run(world, 30);
+    EXPECT_EQ(world.last_frame_stats().border_bodies, 0u);
+    EXPECT_EQ(world.last_frame_stats().clones, 0u);
+    EXPECT_EQ(world.last_frame_stats().stepped_sectors, 20u);
+}
+
+TEST(World, EverythingAsleepNothingStepped) {
+    Scene scene = scenes::box_stack(Eigen::Vector3d(5e8, 0, 0), 3, 128.0);
+    World world = make_world(scene);
+    int frames = 0;
+    while (world.last_frame_stats().stepped_sectors != 0 || frames == 0) {
+        world.step();
+        ASSERT_LT(++frames, 1200) << "the stack never fell asleep";
+    }
+    Eigen::Vector3d top = scenes::relative_position(world.grid(), *world.body(3), Eigen::Vector3d(5e8, 0, 0));
+    EXPECT_NEAR(top.y(), 2.5, 0.05);
+    run(world, 10);
+    EXPECT_EQ(world.last_frame_stats().stepped_sectors, 0u);
+    EXPECT_FALSE(world.body(3)->awake);
+    // An impulse wakes the stack's sector again.
+    ASSERT_TRUE(world.apply_impulse(3, {0, 3, 0}).ok());
+    world.step();
+    EXPECT_EQ(world.last_frame_stats().stepped_sectors, 1u);
+    EXPECT_GT(world.body(3)->linear_velocity.y(), 1.0);
+}
+
+TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
+    Scene scene = scenes::box_stack(Eigen::Vector3d::Zero().eval(), 2, 128.0);
+    World world = make_world(scene);
+    run(world, 30);
+    ASSERT_TRUE(world.remove_body(2).ok());
+    world.step();
+    bool ended = false;
+    for (const ContactEvent& e : world.contact_events()) {
+        if (e.kind == ContactEvent::Kind::End && e.a == 1 && e.b == 2) ended = true;
+    }
+    EXPECT_TRUE(ended);
+    EXPECT_FALSE(world.contains(2));
+    EXPECT_EQ(world.body_count(), 2u);
+}
+
+TEST(World, ThreadsDoNotChangeTheResult) {
+    // A pile straddling eight sectors, stepped on one and on two threads: identical, bit for bit.
+    Scene scene;
+    scene.settings.sector_size = 16;
+    scene.settings.gravity = {0, -9.81, 0};
+    BodyDesc ground;
+    ground.id = 1000;
+    ground.shape = Plane{};
+    ground.position = Eigen::Vector3d(0, -4, 0);
+    scene.bodies.push_back(ground);
+    BodyId id = 1;
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            for (int k = 0; k < 6; ++k) {
+                BodyDesc b = ball(id++, {8.0 - 3.0 + i * 1.1, -3.0 + j * 1.1, 8.0 - 3.0 + k * 1.1 + 0.05 * j});
+                if (id % 3 == 0) b.shape = Box{{0.4, 0.4, 0.4}};
+                scene.bodies.push_back(b);
+            }
+        }
+    }
+    EngineOptions one, two;
+    two.threads = 2;
+    World a = make_world(scene, one);
+    World b = make_world(scene, two);
+    std::size_t max_stepped = 0;
+    for (int f = 0; f < 240; ++f) {
+        a.step();
+        b.step();
+        max_stepped = std::max(max_stepped, b.last_frame_stats().stepped_sectors);
+    }
+    EXPECT_GE(max_stepped, 4u);
+    EXPECT_TRUE(same_state(a.snapshot(), b.snapshot()));
+}
+
+TEST(World, PlanesAreInEverySectorNearThem) {
+    // Balls dropped onto one ground plane in sectors far apart along x all land on it.
+    WorldSettings s;
+    s.sector_size = 64;
+    s.gravity = {0, -9.81, 0};
+    World world = World::create(s).value();
+    BodyDesc ground;
+    ground.id = 100;
+    ground.shape = Plane{{0, 1, 0}, -2.0};
+    ASSERT_TRUE(world.add_body(ground).ok());
+    for (int n = 0; n < 5; ++n) ASSERT_TRUE(world.add_body(ball(n + 1, {n * 1e7 - 3e7, 3.0, n * 77.0})).ok());
+    run(world, 180);
+    for (int n = 0; n < 5; ++n) {
+        double y = world.grid().to_global(world.body(n + 1)->position).y();
+        EXPECT_NEAR(y, -1.5, 0.02) << "ball " << n + 1;
+    }
+}
+
+}  // namespace
+}  // namespace lpss

@@ -1,0 +1,34 @@
+// Scenes shared by the tests and the benchmarks: the paper's experiments, placed anywhere.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "lpss/common/body_snapshot.hpp"
+#include "lpss/common/scene.hpp"
+
+namespace lpss::scenes {
+
+/// Where an experiment is centred: a double global position or an exact sector position.
+using Centre = Placement;
+
+/// The centre as an exact sector position on `grid` (global centres are converted).
+SectorPosition centre_on(const SectorGrid& grid, const Centre& centre);
+
+/// `centre` moved by `by` (in double for a global centre, in the local offset for a sector centre).
+Centre shifted(const Centre& centre, const Eigen::Vector3d& by);
+
+/// The paper's Figure 5: two unit spheres 4.1 apart along `axis`, at 2 units/s towards each other,
+/// restitution 1, no friction, no gravity, no sleeping (ids 1 and 2; body 1 starts at -axis).
+Scene sphere_pair(const Centre& centre, double sector_size, const Eigen::Vector3d& axis = Eigen::Vector3d::UnitX());
+
+/// Eight spheres in the eight octants around `centre`, moving towards it at 2 units/s (ids 1..8).
+Scene sphere_octet(const Centre& centre, double sector_size);
+
+/// The paper's Figure 8: `count` unit boxes stacked on a ground plane through `base` (normal +y), with
+/// gravity -9.81 y. The plane has id 1000, the boxes ids 1..count from the bottom.
+Scene box_stack(const Centre& base, int count, double sector_size);
+
+/// Position of a body relative to a centre, computed exactly from sector keys.
+Eigen::Vector3d relative_position(const SectorGrid& grid, const BodySnapshot& body, const Centre& centre);
+
+}  // namespace lpss::scenes

@@ -1,0 +1,86 @@
+// lpss-sim as a user runs it: the CSV it writes, and the message and exit status of a refused scene.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string output;
+};
+
+Result run(const std::string& command) {
+    Result r;
+    std::FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (pipe == nullptr) return r;
+    std::array<char, 4096> buffer{};
+    while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
+    int raw = pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+std::string temp_path(const std::string& name) {
+    return ::testing::TempDir() + "lpss_sim_test_" + std::to_string(::getpid()) + "_" + name;
+}
+
+const std::string kSim = LPSS_SIM;
+const std::string kScene = std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/two_spheres.textproto";
+
+TEST(LpssSim, WritesTheStateCsv) {
+    const std::string csv = temp_path("states.csv");
+    Result r = run(kSim + " " + kScene + " --frames 180 --every 60 --csv " + csv);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(csv);
+    std::string header;
+    std::getline(in, header);
+    EXPECT_EQ(header, "frame,id,x,y,z,qx,qy,qz,qw,vx,vy,vz,si,sj,sk,lx,ly,lz");
+    std::vector<std::string> rows;
+    for (std::string line; std::getline(in, line);) rows.push_back(line);
+    ASSERT_EQ(rows.size(), 8u) << "frames 0, 60, 120, 180 of two bodies";
+    EXPECT_EQ(rows.front().rfind("0,1,-2.0499999999999998,0,0,", 0), 0u) << "17 digits: " << rows.front();
+    // The last row: body 2 after the bounce, moving right at 2.2 units/s, 17 significant digits.
+    std::istringstream last(rows.back());
+    std::vector<std::string> fields;
+    for (std::string f; std::getline(last, f, ',');) fields.push_back(f);
+    ASSERT_EQ(fields.size(), 18u);
+    EXPECT_EQ(fields[0], "180");
+    EXPECT_EQ(fields[1], "2");
+    EXPECT_NEAR(std::stod(fields[2]), 5.36, 0.01);
+    EXPECT_NEAR(std::stod(fields[9]), 2.2, 0.01);
+    std::remove(csv.c_str());
+}
+
+TEST(LpssSim, PrintsASummaryWithoutCsv) {
+    Result r = run(kSim + " " + kScene + " --frames 60");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("bodies       2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("float Bullet, sectorized, L = 128"), std::string::npos) << r.output;
+}
+
+TEST(LpssSim, RefusesABadSceneWithANamedError) {
+    const std::string path = temp_path("bad.textproto");
+    std::ofstream(path) << "sector_size: 128\nbodies { id: 3 name: \"crate\" shape { box { half_extents { x: 1 y: 0 z: 1 } } } mass: 1 }\n";
+    Result r = run(kSim + " " + path + " --frames 10");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("body 'crate' (id 3): shape.box.half_extents.y must be > 0, got 0"), std::string::npos)
+        << r.output;
+    std::remove(path.c_str());
+    r = run(kSim + " /nonexistent.textproto");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("cannot open"), std::string::npos);
+}
+
+TEST(LpssSim, DoubleTwinRunsMonolithic) {
+    Result r = run(std::string(LPSS_SIM_F64) + " " + kScene + " --frames 10 --monolithic");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("double Bullet, monolithic"), std::string::npos) << r.output;
+}
+
+}  // namespace
