@@ -25,7 +25,12 @@ if ((${#missing[@]})); then
 fi
 
 jobs="$(nproc 2>/dev/null || echo 2)"
-if [[ ! -f "$build/CMakeCache.txt" ]]; then
-    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+mkdir -p "$build"
+log="$build/build.log"
+echo "lpss: building in $build (log: $log)"
+if ! { [[ -f "$build/CMakeCache.txt" ]] || cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release; } >"$log" 2>&1 ||
+    ! cmake --build "$build" -j "$jobs" >>"$log" 2>&1; then
+    tail -n 40 "$log" >&2
+    echo "lpss: build failed (full log: $log)" >&2
+    exit 1
 fi
-cmake --build "$build" -j "$jobs"

@@ -17,7 +17,8 @@ class ParseErrors : public google::protobuf::io::ErrorCollector {
 public:
     explicit ParseErrors(std::string_view source) : source_(source) {}
     void AddError(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
-        if (!text_.empty()) text_ += "\n";
+        if (!text_.empty())
+            text_ += "\n";
         text_ += source_ + ":" + std::to_string(line + 1) + ":" + std::to_string(column + 1) + ": " + message;
     }
     const std::string& text() const { return text_; }
@@ -27,7 +28,9 @@ private:
     std::string text_;
 };
 
-Eigen::Vector3d from_pb(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+Eigen::Vector3d from_pb(const pb::Vec3& v) {
+    return {v.x(), v.y(), v.z()};
+}
 
 void to_pb(const Eigen::Vector3d& v, pb::Vec3* out) {
     out->set_x(v.x());
@@ -45,12 +48,14 @@ Shape shape_from_pb(const pb::Shape& s) {
             return Capsule{s.capsule().radius(), s.capsule().height()};
         case pb::Shape::kConvexHull: {
             ConvexHull hull;
-            for (const pb::Vec3& p : s.convex_hull().points()) hull.points.push_back(from_pb(p));
+            for (const pb::Vec3& p : s.convex_hull().points())
+                hull.points.push_back(from_pb(p));
             return hull;
         }
         case pb::Shape::kPlane: {
             Plane plane{from_pb(s.plane().normal()), s.plane().offset()};
-            if (plane.normal.allFinite() && plane.normal.norm() > 0.0) plane.normal.normalize();
+            if (plane.normal.allFinite() && plane.normal.norm() > 0.0)
+                plane.normal.normalize();
             return plane;
         }
         case pb::Shape::KIND_NOT_SET:
@@ -68,7 +73,8 @@ void shape_to_pb(const Shape& shape, pb::Shape* out) {
         out->mutable_capsule()->set_radius(c->radius);
         out->mutable_capsule()->set_height(c->height);
     } else if (const auto* h = std::get_if<ConvexHull>(&shape)) {
-        for (const auto& p : h->points) to_pb(p, out->mutable_convex_hull()->add_points());
+        for (const auto& p : h->points)
+            to_pb(p, out->mutable_convex_hull()->add_points());
     } else if (const auto* p = std::get_if<Plane>(&shape)) {
         to_pb(p->normal, out->mutable_plane()->mutable_normal());
         out->mutable_plane()->set_offset(p->offset);
@@ -80,7 +86,8 @@ BodyDesc body_from_pb(const pb::Body& b, std::string& shape_problem) {
     body.id = b.id();
     body.name = b.name();
     if (!b.has_shape() || b.shape().kind_case() == pb::Shape::KIND_NOT_SET) {
-        shape_problem = describe_body(body) + ": shape is missing (sphere, box, capsule, convex_hull or plane)";
+        shape_problem =
+            describe_body(body) + ": shape is missing (sphere, box, capsule, convex_hull or plane)";
     }
     body.shape = shape_from_pb(b.shape());
     body.mass = b.mass();
@@ -93,11 +100,13 @@ BodyDesc body_from_pb(const pb::Body& b, std::string& shape_problem) {
     if (b.has_orientation()) {
         const pb::Quat& q = b.orientation();
         body.orientation = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
-        if (body.orientation.coeffs().allFinite() && body.orientation.norm() > 1e-9) body.orientation.normalize();
+        if (body.orientation.coeffs().allFinite() && body.orientation.norm() > 1e-9)
+            body.orientation.normalize();
     }
     body.linear_velocity = from_pb(b.linear_velocity());
     body.angular_velocity = from_pb(b.angular_velocity());
-    if (b.has_material()) body.material = Material{b.material().friction(), b.material().restitution()};
+    if (b.has_material())
+        body.material = Material{b.material().friction(), b.material().restitution()};
     body.ccd = b.ccd();
     return body;
 }
@@ -115,11 +124,15 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     Scene scene;
     WorldSettings& s = scene.settings;
     s.sector_size = message.sector_size();
-    if (message.has_dt()) s.dt = message.dt();
-    if (message.has_precision_radius()) s.precision_radius = message.precision_radius();
+    if (message.has_dt())
+        s.dt = message.dt();
+    if (message.has_precision_radius())
+        s.precision_radius = message.precision_radius();
     s.gravity = from_pb(message.gravity());
-    if (message.has_hysteresis()) s.hysteresis = message.hysteresis();
-    if (message.has_sleeping()) s.sleeping = message.sleeping();
+    if (message.has_hysteresis())
+        s.hysteresis = message.hysteresis();
+    if (message.has_sleeping())
+        s.sleeping = message.sleeping();
     if (message.has_precision_radius() && !(message.precision_radius() > 0.0)) {
         return Error{std::string(source) + ": scene: precision_radius must be > 0 when given"};
     }
@@ -127,9 +140,11 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     for (const pb::Body& b : message.bodies()) {
         std::string shape_problem;
         scene.bodies.push_back(body_from_pb(b, shape_problem));
-        if (!shape_problem.empty()) problems += (problems.empty() ? "" : "\n") + shape_problem;
+        if (!shape_problem.empty())
+            problems += (problems.empty() ? "" : "\n") + shape_problem;
     }
-    if (!problems.empty()) return Error{std::string(source) + ": " + problems};
+    if (!problems.empty())
+        return Error{std::string(source) + ": " + problems};
     if (Status st = validate_scene(scene, sectorized); !st) {
         return Error{std::string(source) + ": " + st.error().message};
     }
@@ -138,7 +153,8 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
 
 Expected<Scene> load_scene(const std::string& path, bool sectorized) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) return Error{path + ": cannot open scene file"};
+    if (!in)
+        return Error{path + ": cannot open scene file"};
     std::ostringstream text;
     text << in.rdbuf();
     return parse_scene(text.str(), path, sectorized);
@@ -149,7 +165,8 @@ std::string format_scene(const Scene& scene) {
     const WorldSettings& s = scene.settings;
     message.set_sector_size(s.sector_size);
     message.set_dt(s.dt);
-    if (s.precision_radius > 0.0) message.set_precision_radius(s.precision_radius);
+    if (s.precision_radius > 0.0)
+        message.set_precision_radius(s.precision_radius);
     to_pb(s.gravity, message.mutable_gravity());
     message.set_hysteresis(s.hysteresis);
     message.set_sleeping(s.sleeping);

@@ -12,7 +12,8 @@ double bounding_radius(const Shape& shape) {
         double operator()(const Capsule& c) const { return c.radius + 0.5 * c.height; }
         double operator()(const ConvexHull& h) const {
             double r = 0.0;
-            for (const Eigen::Vector3d& p : h.points) r = std::max(r, p.norm());
+            for (const Eigen::Vector3d& p : h.points)
+                r = std::max(r, p.norm());
             return r;
         }
         double operator()(const Plane&) const { return std::numeric_limits<double>::infinity(); }

@@ -14,7 +14,8 @@ void write_state_csv_row(std::FILE* out, std::uint64_t frame, const BodySnapshot
     const Eigen::Vector3d& v = b.linear_velocity;
     const SectorPosition& p = b.position;
     fmt::print(out,
-               "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{},{:.17g},{:."
+               "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{"
+               "},{:.17g},{:."
                "17g},{:.17g}\n",
                frame, b.id, g.x(), g.y(), g.z(), q.x(), q.y(), q.z(), q.w(), v.x(), v.y(), v.z(), p.sector.i,
                p.sector.j, p.sector.k, p.local.x(), p.local.y(), p.local.z());

@@ -57,7 +57,8 @@ struct BodyRecord {
 
     Clone* clone_in(const Sector* host) {
         for (Clone& c : clones) {
-            if (c.host == host) return &c;
+            if (c.host == host)
+                return &c;
         }
         return nullptr;
     }

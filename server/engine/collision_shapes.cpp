@@ -21,11 +21,13 @@ std::unique_ptr<btCollisionShape> make_collision_shape(const Shape& shape) {
             return std::make_unique<btBoxShape>(to_bt(b.half_extents));
         }
         std::unique_ptr<btCollisionShape> operator()(const Capsule& c) const {
-            return std::make_unique<btCapsuleShape>(static_cast<btScalar>(c.radius), static_cast<btScalar>(c.height));
+            return std::make_unique<btCapsuleShape>(static_cast<btScalar>(c.radius),
+                                                    static_cast<btScalar>(c.height));
         }
         std::unique_ptr<btCollisionShape> operator()(const ConvexHull& h) const {
             auto hull = std::make_unique<btConvexHullShape>();
-            for (const Eigen::Vector3d& p : h.points) hull->addPoint(to_bt(p), false);
+            for (const Eigen::Vector3d& p : h.points)
+                hull->addPoint(to_bt(p), false);
             hull->recalcLocalAabb();
             hull->optimizeConvexHull();
             return hull;

@@ -32,14 +32,17 @@ void World::Impl::count_contact(const ContactRecord& contact, const SectorKey& w
 void World::Impl::forget_contacts(Sector& sector, BodyId id) {
     auto involved = [id](const ContactRecord& c) { return c.a == id || c.b == id; };
     for (const ContactRecord& c : sector.contacts) {
-        if (involved(c)) count_contact(c, sector.key, -1);
+        if (involved(c))
+            count_contact(c, sector.key, -1);
     }
     sector.contacts.erase(std::remove_if(sector.contacts.begin(), sector.contacts.end(), involved),
                           sector.contacts.end());
 }
 
 void World::Impl::merge_contacts() {
-    auto before = [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
+    auto before = [](const ContactRecord& x, const ContactRecord& y) {
+        return x.a != y.a ? x.a < y.a : x.b < y.b;
+    };
     for (Sector* sector : step_set) {
         const std::vector<ContactRecord>& old_pairs = sector->contacts;
         const std::vector<ContactRecord>& new_pairs = sector->fresh_contacts;
@@ -54,7 +57,8 @@ void World::Impl::merge_contacts() {
             }
         }
         sector->contacts.swap(sector->fresh_contacts);
-        if (sector->awake) wake(*sector);
+        if (sector->awake)
+            wake(*sector);
     }
 
     events.clear();
@@ -79,7 +83,8 @@ void World::Impl::merge_contacts() {
     }
     changed_pairs.clear();
     std::sort(events.begin(), events.end(), [](const ContactEvent& x, const ContactEvent& y) {
-        if (x.kind != y.kind) return x.kind < y.kind;
+        if (x.kind != y.kind)
+            return x.kind < y.kind;
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     });
 }

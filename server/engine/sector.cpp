@@ -21,7 +21,8 @@ Sector::~Sector() {
     // Objects still inserted belong to bodies that outlive this sector: take them out first so that the
     // world does not touch them while it is torn down.
     btCollisionObjectArray& objects = world.getCollisionObjectArray();
-    for (int n = objects.size() - 1; n >= 0; --n) world.removeCollisionObject(objects[n]);
+    for (int n = objects.size() - 1; n >= 0; --n)
+        world.removeCollisionObject(objects[n]);
 }
 
 void Sector::move_anchor(const Eigen::Vector3d& to) {

@@ -53,9 +53,9 @@ public:
     btDbvtBroadphase broadphase;
     btDiscreteDynamicsWorld world;
 
-    std::vector<std::uint32_t> originals;  ///< slots of the bodies this sector owns
-    std::vector<std::uint32_t> hosted;     ///< slots of bodies with a clone or plane instance here
-    std::vector<ContactRecord> contacts;   ///< touching pairs at the last step, sorted by (a, b)
+    std::vector<std::uint32_t> originals;       ///< slots of the bodies this sector owns
+    std::vector<std::uint32_t> hosted;          ///< slots of bodies with a clone or plane instance here
+    std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
 
     double max_speed = 0.0;  ///< fastest original at the last step, to grow reach queries

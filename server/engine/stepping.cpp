@@ -24,7 +24,9 @@ namespace {
 // from this distance on.
 constexpr btScalar kTouchDistance = btScalar(0.005);
 
-Role role_of(const btCollisionObject* object) { return static_cast<Role>(object->getUserIndex2()); }
+Role role_of(const btCollisionObject* object) {
+    return static_cast<Role>(object->getUserIndex2());
+}
 
 }  // namespace
 
@@ -47,8 +49,9 @@ void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
         const btScalar before = start[a];
         const double displaced = static_cast<double>(moved[a]) - static_cast<double>(before);
         const double by_velocity = static_cast<double>(velocity[a]) * static_cast<double>(dt);
-        const double spacing = static_cast<double>(std::numeric_limits<btScalar>::epsilon()) *
-                               std::max(std::fabs(static_cast<double>(moved[a])), std::fabs(static_cast<double>(before)));
+        const double spacing =
+            static_cast<double>(std::numeric_limits<btScalar>::epsilon()) *
+            std::max(std::fabs(static_cast<double>(moved[a])), std::fabs(static_cast<double>(before)));
         rec.local[a] += std::fabs(displaced - by_velocity) <= spacing ? by_velocity : displaced;
     }
     transform.setOrigin(sector.to_physics(rec.local));
@@ -65,13 +68,15 @@ void World::Impl::step_sectors() {
         double max_speed = 0.0;
         for (std::uint32_t slot : sector.originals) {
             BodyRecord& rec = bodies[slot];
-            if (!rec.dynamic) continue;
+            if (!rec.dynamic)
+                continue;
             btRigidBody& rb = *rec.rb;
             // Every dynamic original, not only the awake ones: a body that fell asleep during this step
             // still moved in it.
             track_position(rec, dt);
             awake = awake || rb.isActive();
-            double speed = rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
+            double speed =
+                rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
             max_speed = std::max(max_speed, speed);
         }
         sector.awake = awake;
@@ -84,10 +89,12 @@ void World::Impl::step_sectors() {
         for (int m = 0; m < manifolds; ++m) {
             const btPersistentManifold* manifold = sector.dispatcher.getManifoldByIndexInternal(m);
             const int points = manifold->getNumContacts();
-            if (points == 0) continue;
+            if (points == 0)
+                continue;
             const btCollisionObject* o0 = manifold->getBody0();
             const btCollisionObject* o1 = manifold->getBody1();
-            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone) continue;
+            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone)
+                continue;
             btScalar nearest = std::numeric_limits<btScalar>::max();
             btScalar impulse = 0;
             btVector3 point(0, 0, 0);
@@ -97,7 +104,8 @@ void World::Impl::step_sectors() {
                 impulse += contact.getAppliedImpulse();
                 point += contact.getPositionWorldOnB();
             }
-            if (nearest > kTouchDistance) continue;
+            if (nearest > kTouchDistance)
+                continue;
             ContactRecord record;
             record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].desc.id;
             record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].desc.id;
@@ -114,7 +122,9 @@ void World::Impl::step_sectors() {
             sector.fresh_contacts.push_back(record);
         }
         std::sort(sector.fresh_contacts.begin(), sector.fresh_contacts.end(),
-                  [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+                  [](const ContactRecord& x, const ContactRecord& y) {
+                      return x.a != y.a ? x.a < y.a : x.b < y.b;
+                  });
         // Last: moving the anchor leaves the manifolds' world points stale until the next step.
         follow_bodies(sector);
     });

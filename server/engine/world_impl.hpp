@@ -67,7 +67,7 @@ struct World::Impl {
     WorldSettings settings;
     EngineOptions options;
     SectorGrid grid;
-    double band = 0.0;       ///< a centre this far from its sector's centre (on an axis) changes sector
+    double band = 0.0;          ///< a centre this far from its sector's centre (on an axis) changes sector
     double reach_margin = 0.0;  ///< contact distance added to every reach box
     bool precise_positions = true;  ///< EngineOptions::double_positions, off in monolithic mode
     double anchor_quantum = 0.0;    ///< anchors are multiples of this power of two; 0: anchors stay at 0
@@ -87,9 +87,9 @@ struct World::Impl {
     std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> border_registry;
     std::size_t border_bodies = 0;
 
-    std::vector<std::uint32_t> dirty;            ///< bodies changed by commands since the last step
-    std::vector<engine::Sector*> awake_list;     ///< sectors that may hold awake originals
-    std::vector<engine::Sector*> step_set;       ///< sectors stepped this (or the last) frame
+    std::vector<std::uint32_t> dirty;         ///< bodies changed by commands since the last step
+    std::vector<engine::Sector*> awake_list;  ///< sectors that may hold awake originals
+    std::vector<engine::Sector*> step_set;    ///< sectors stepped this (or the last) frame
     std::vector<engine::Sector*> pending_destroy;
 
     // Scratch, kept to avoid allocation per frame.

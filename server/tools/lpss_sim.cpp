@@ -1,8 +1,8 @@
 // lpss-sim: runs a scene in one process with the in-process engine and writes what happened, as a
 // short summary or as the body-state CSV shared with lpss-watch. Built against float Bullet (lpss-sim)
 // and float64 Bullet (lpss-sim-f64); --monolithic runs plain Bullet in global coordinates instead.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -17,7 +17,8 @@ namespace {
 
 struct FileCloser {
     void operator()(std::FILE* f) const {
-        if (f != nullptr && f != stdout) std::fclose(f);
+        if (f != nullptr && f != stdout)
+            std::fclose(f);
     }
 };
 
@@ -32,17 +33,21 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
     const lpss::FrameStats& last = world.last_frame_stats();
     const double per = frames ? 1e3 / static_cast<double>(frames) : 0.0;
     fmt::print("scene        {}\n", scene);
+    const lpss::EngineOptions& o = world.options();
     fmt::print("engine       {} Bullet, {}, {} thread(s)\n", lpss::World::physics_precision(),
-               world.options().monolithic ? "monolithic (one world, global coordinates)"
-                                          : fmt::format("sectorized, L = {:g}", world.settings().sector_size),
-               world.options().threads);
+               o.monolithic
+                   ? "monolithic (one world, global coordinates)"
+                   : fmt::format("sectorized, L = {:g}{}", world.settings().sector_size,
+                                 o.double_positions || o.floating_origins ? "" : ", plain sector frames"),
+               o.threads);
     fmt::print("frames       {} of {:g} s ({:g} s simulated) in {:.3f} s wall\n", frames, world.settings().dt,
                static_cast<double>(frames) * world.settings().dt, wall);
     fmt::print("bodies       {}\n", world.body_count());
     fmt::print("sectors      {} at the end, {} at most; {:.1f} stepped per frame on average\n", last.sectors,
-               t.max_sectors, frames ? static_cast<double>(t.stepped_sectors) / static_cast<double>(frames) : 0.0);
-    fmt::print("borders      {} sector changes, up to {} border bodies and {} clones at once\n", t.sector_changes,
-               t.max_border_bodies, t.max_clones);
+               t.max_sectors,
+               frames ? static_cast<double>(t.stepped_sectors) / static_cast<double>(frames) : 0.0);
+    fmt::print("borders      {} sector changes, up to {} border bodies and {} clones at once\n",
+               t.sector_changes, t.max_border_bodies, t.max_clones);
     fmt::print("contacts     {} began\n", t.contacts_begun);
     fmt::print("time/frame   {:.4f} ms (sectorize {:.4f}, clone {:.4f}, step {:.4f})\n", t.total * per,
                t.sectorize * per, t.clone * per, t.step * per);
@@ -53,10 +58,11 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
         const lpss::BodySnapshot& b = bodies[n];
         Eigen::Vector3d g = world.grid().to_global(b.position);
         const auto desc = world.description(b.id);
-        fmt::print("  {:>6} {:<14} x=({:.6f}, {:.6f}, {:.6f}) v=({:.3f}, {:.3f}, {:.3f}) sector ({}, {}, {}){}\n",
-                   b.id, desc ? desc->name : "", g.x(), g.y(), g.z(), b.linear_velocity.x(), b.linear_velocity.y(),
-                   b.linear_velocity.z(), b.position.sector.i, b.position.sector.j, b.position.sector.k,
-                   b.awake ? "" : " asleep");
+        fmt::print(
+            "  {:>6} {:<14} x=({:.6f}, {:.6f}, {:.6f}) v=({:.3f}, {:.3f}, {:.3f}) sector ({}, {}, {}){}\n",
+            b.id, desc ? desc->name : "", g.x(), g.y(), g.z(), b.linear_velocity.x(), b.linear_velocity.y(),
+            b.linear_velocity.z(), b.position.sector.i, b.position.sector.j, b.position.sector.k,
+            b.awake ? "" : " asleep");
     }
 }
 
@@ -70,14 +76,18 @@ int main(int argc, char** argv) {
     std::uint64_t every = 1;
     int threads = 1;
     bool monolithic = false;
+    bool plain_sectors = false;
     std::string log_level = "warn";
     app.add_option("scene", scene_path, "scene file (Protobuf text format)")->required();
-    app.add_option("--frames", frames, "frames to run")->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 40));
+    app.add_option("--frames", frames, "frames to run")
+        ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 40));
     app.add_option("--csv", csv_path, "write body states as CSV to this file ('-' for stdout)");
     app.add_option("--every", every, "with --csv: write every K-th frame (the first and last always)")
         ->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "threads stepping sectors concurrently")->check(CLI::Range(1, 256));
     app.add_flag("--monolithic", monolithic, "no sectors: one world in global coordinates (plain Bullet)");
+    app.add_flag("--plain-sectors", plain_sectors,
+                 "the paper's scheme alone: sector-centred float frames, no double positions");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
     CLI11_PARSE(app, argc, argv);
 
@@ -93,6 +103,8 @@ int main(int argc, char** argv) {
     lpss::EngineOptions options;
     options.threads = threads;
     options.monolithic = monolithic;
+    options.double_positions = !plain_sectors;
+    options.floating_origins = !plain_sectors;
     lpss::Expected<lpss::World> created = lpss::World::create(scene.value(), options);
     if (!created) {
         std::fprintf(stderr, "lpss-sim: %s\n", created.error().message.c_str());
@@ -114,7 +126,8 @@ int main(int argc, char** argv) {
             lpss::write_state_csv_row(csv.get(), world.frame(), b, world.grid());
         }
     };
-    if (csv) write_frame();
+    if (csv)
+        write_frame();
 
     Totals totals;
     auto start = std::chrono::steady_clock::now();
@@ -131,9 +144,11 @@ int main(int argc, char** argv) {
         totals.max_sectors = std::max(totals.max_sectors, s.sectors);
         totals.max_border_bodies = std::max(totals.max_border_bodies, s.border_bodies);
         for (const lpss::ContactEvent& e : world.contact_events()) {
-            if (e.kind == lpss::ContactEvent::Kind::Begin) ++totals.contacts_begun;
+            if (e.kind == lpss::ContactEvent::Kind::Begin)
+                ++totals.contacts_begun;
         }
-        if (csv && (f % every == 0 || f == frames)) write_frame();
+        if (csv && (f % every == 0 || f == frames))
+            write_frame();
     }
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (csv) {
@@ -141,8 +156,9 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "lpss-sim: writing %s failed\n", csv_path.c_str());
             return 1;
         }
-        if (csv_path != "-") std::fprintf(stderr, "lpss-sim: %llu frames written to %s\n",
-                                          static_cast<unsigned long long>(frames), csv_path.c_str());
+        if (csv_path != "-")
+            std::fprintf(stderr, "lpss-sim: %llu frames written to %s\n",
+                         static_cast<unsigned long long>(frames), csv_path.c_str());
     } else {
         print_summary(world, scene_path, frames, totals, wall);
     }

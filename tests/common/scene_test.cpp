@@ -32,7 +32,9 @@ bodies {
 }
 )";
 
-Scene good_scene() { return parse_scene(kGoodScene, "good").value(); }
+Scene good_scene() {
+    return parse_scene(kGoodScene, "good").value();
+}
 
 // Parses the good scene with one body field replaced, and returns the error message ("" if accepted).
 std::string refusal(const std::string& text) {
@@ -60,7 +62,8 @@ TEST(Scene, ParsesFieldsAndDefaults) {
     EXPECT_EQ(sp.local.x(), 70);
     EXPECT_EQ(crate.material.restitution, 0.1);
     EXPECT_TRUE(crate.ccd);
-    EXPECT_EQ(s.bodies[0].orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs()) << "absent: identity";
+    EXPECT_EQ(s.bodies[0].orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs())
+        << "absent: identity";
 }
 
 TEST(Scene, FormatThenParseGivesTheSameScene) {
@@ -87,7 +90,8 @@ TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
 
 TEST(Scene, RefusesBadSettings) {
     EXPECT_NE(refusal("dt: 0.01").find("sector_size"), std::string::npos);
-    EXPECT_NE(refusal("sector_size: -5").find("sector_size must be a finite number > 0, got -5"), std::string::npos);
+    EXPECT_NE(refusal("sector_size: -5").find("sector_size must be a finite number > 0, got -5"),
+              std::string::npos);
     EXPECT_NE(refusal("sector_size: 128 dt: 0").find("dt"), std::string::npos);
     EXPECT_NE(refusal("sector_size: inf").find("sector_size"), std::string::npos);
     std::string e = refusal("sector_size: 1024 precision_radius: 1000");
@@ -97,15 +101,18 @@ TEST(Scene, RefusesBadSettings) {
 }
 
 struct BadBody {
-    const char* body;       // the body's fields
-    const char* expected;   // text the error must contain (body name and field)
+    const char* body;      // the body's fields
+    const char* expected;  // text the error must contain (body name and field)
 };
 
 class RefusesBadBody : public ::testing::TestWithParam<BadBody> {};
 
 TEST_P(RefusesBadBody, WithAnErrorNamingBodyAndField) {
-    std::string text = std::string("sector_size: 128\nbodies { id: 1 name: \"ok\" shape { sphere { radius: 1 } } mass: 1 }\n"
-                                   "bodies { name: \"bad\" ") + GetParam().body + " }\n";
+    std::string text =
+        std::string(
+            "sector_size: 128\nbodies { id: 1 name: \"ok\" shape { sphere { radius: 1 } } mass: 1 }\n"
+            "bodies { name: \"bad\" ") +
+        GetParam().body + " }\n";
     std::string e = refusal(text);
     ASSERT_FALSE(e.empty()) << "accepted: " << GetParam().body;
     EXPECT_NE(e.find(GetParam().expected), std::string::npos) << e;
@@ -117,32 +124,44 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadBody{"id: 2 shape { sphere { radius: nan } } mass: 1", "shape.sphere.radius is not finite"},
         BadBody{"id: 2 shape { sphere { radius: 0 } } mass: 1", "shape.sphere.radius must be > 0"},
-        BadBody{"id: 2 shape { box { half_extents { x: 1 y: -1 z: 1 } } } mass: 1", "shape.box.half_extents.y must be > 0"},
-        BadBody{"id: 2 shape { capsule { radius: 1 height: -2 } } mass: 1", "shape.capsule.height must be >= 0"},
+        BadBody{"id: 2 shape { box { half_extents { x: 1 y: -1 z: 1 } } } mass: 1",
+                "shape.box.half_extents.y must be > 0"},
+        BadBody{"id: 2 shape { capsule { radius: 1 height: -2 } } mass: 1",
+                "shape.capsule.height must be >= 0"},
         BadBody{"id: 2 shape { convex_hull { points { x: 1 } points { y: 1 } points { z: 1 } } } mass: 1",
                 "shape.convex_hull.points needs at least 4 points"},
-        BadBody{"id: 2 shape { convex_hull { points { x: 1 } points { y: 1 } points { x: 1 y: 1 } points { } } } mass: 1",
+        BadBody{"id: 2 shape { convex_hull { points { x: 1 } points { y: 1 } points { x: 1 y: 1 } points { } "
+                "} } mass: 1",
                 "flat or collinear"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: -1", "mass must be >= 0, got -1"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: inf", "mass is not finite"},
         BadBody{"id: 1 shape { sphere { radius: 1 } } mass: 1", "id is used by another body"},
         BadBody{"shape { sphere { radius: 1 } } mass: 1", "id must be non-zero"},
-        BadBody{"id: 2 shape { box { half_extents { x: 50 y: 50 z: 10 } } } mass: 1", "more than sector_size 128"},
+        BadBody{"id: 2 shape { box { half_extents { x: 50 y: 50 z: 10 } } } mass: 1",
+                "more than sector_size 128"},
         BadBody{"id: 2 shape { sphere { radius: 64.5 } }", "more than sector_size 128"},
         BadBody{"id: 2 shape { plane { normal { y: 1 } } } mass: 3", "a plane must be static"},
-        BadBody{"id: 2 shape { plane { normal { } } }", "shape.plane.normal must be a finite non-zero vector"},
+        BadBody{"id: 2 shape { plane { normal { } } }",
+                "shape.plane.normal must be a finite non-zero vector"},
         BadBody{"id: 2 mass: 1", "shape is missing"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: nan } }", "position.global is not finite"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: 1e300 } }", "beyond sector index 2^62"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: nan } }",
+                "position.global is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { global { x: 1e300 } }",
+                "beyond sector index 2^62"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { sector { i: 4611686018427387905 } }",
                 "position.sector has an index beyond 2^62"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 position { sector { local { z: -inf } } }",
                 "position.sector.local is not finite"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { w: 0 }", "orientation is a zero quaternion"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { x: nan w: 1 }", "orientation is not finite"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 linear_velocity { y: nan }", "linear_velocity is not finite"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { y: inf }", "angular_velocity is not finite"},
-        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { friction: -1 }", "material.friction must be >= 0"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { w: 0 }",
+                "orientation is a zero quaternion"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 orientation { x: nan w: 1 }",
+                "orientation is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 linear_velocity { y: nan }",
+                "linear_velocity is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { y: inf }",
+                "angular_velocity is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { friction: -1 }",
+                "material.friction must be >= 0"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { restitution: 1.5 }",
                 "material.restitution must be <= 1"}));
 

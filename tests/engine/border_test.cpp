@@ -19,7 +19,8 @@ constexpr double kL = 128.0;
 // Runs a scene made by `make` at `centre` and at the origin (inside sector 0) and returns the summed
 // error between the two runs' positions relative to their centres.
 template <class Make>
-double error_against_origin(Make make, const scenes::Centre& centre, int frames, std::size_t* max_clones = nullptr) {
+double error_against_origin(Make make, const scenes::Centre& centre, int frames,
+                            std::size_t* max_clones = nullptr) {
     World reference = make_world(make(scenes::Centre(Eigen::Vector3d::Zero().eval())));
     World moved = make_world(make(centre));
     std::size_t clones = 0;
@@ -29,8 +30,10 @@ double error_against_origin(Make make, const scenes::Centre& centre, int frames,
         clones = std::max(clones, moved.last_frame_stats().clones);
         EXPECT_EQ(reference.last_frame_stats().clones, 0u) << "the reference must not touch a border";
     }
-    if (max_clones) *max_clones = clones;
-    return summed_error(relative_positions(moved, centre), relative_positions(reference, Eigen::Vector3d::Zero().eval()));
+    if (max_clones)
+        *max_clones = clones;
+    return summed_error(relative_positions(moved, centre),
+                        relative_positions(reference, Eigen::Vector3d::Zero().eval()));
 }
 
 TEST(Borders, CollisionOnAFaceMatchesTheOneInsideASector) {
@@ -38,8 +41,8 @@ TEST(Borders, CollisionOnAFaceMatchesTheOneInsideASector) {
         Eigen::Vector3d dir = Eigen::Vector3d::Unit(axis);
         Eigen::Vector3d border = 0.5 * kL * dir;  // the spheres meet exactly on the face x_axis = L/2
         std::size_t clones = 0;
-        double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL, dir); },
-                                            border, 180, &clones);
+        double error = error_against_origin(
+            [&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL, dir); }, border, 180, &clones);
         EXPECT_LE(error, 2e-3) << "axis " << axis;
         EXPECT_GE(clones, 2u) << "the collision must have been simulated through clones";
     }
@@ -49,7 +52,8 @@ TEST(Borders, CollisionOnAFaceFarFromTheOriginMatches) {
     // The same face crossing at sector indices near 2^60.
     const std::int64_t far = (std::int64_t{1} << 60) + 11;
     SectorPosition border{{far, 3, -far}, {0.5 * kL, 0, 0}};
-    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL); }, border, 180);
+    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_pair(c, kL); },
+                                        border, 180);
     EXPECT_LE(error, 2e-3);
 }
 
@@ -78,8 +82,8 @@ TEST(Borders, DiagonalCollisionThroughACornerOfEightSectors) {
 TEST(Borders, EightSpheresMeetingAtACornerOfEightSectors) {
     Eigen::Vector3d corner = Eigen::Vector3d::Constant(0.5 * kL);
     std::size_t clones = 0;
-    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_octet(c, kL); }, corner,
-                                        120, &clones);
+    double error = error_against_origin([&](const scenes::Centre& c) { return scenes::sphere_octet(c, kL); },
+                                        corner, 120, &clones);
     EXPECT_LE(error, 8 * 2e-3);
     EXPECT_GE(clones, 8u * 3u) << "each sphere meets three neighbours in three other sectors";
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "engine_test_support.hpp"
 
@@ -21,9 +22,12 @@ struct Outcome {
     bool collided = false;
 };
 
-Outcome run_pair(const scenes::Centre& centre, double sector_size, const Eigen::Vector3d& axis, bool monolithic) {
+Outcome run_pair(const scenes::Centre& centre, double sector_size, const Eigen::Vector3d& axis,
+                 bool monolithic, bool plain_sectors = false) {
     EngineOptions options;
     options.monolithic = monolithic;
+    options.double_positions = !plain_sectors;
+    options.floating_origins = !plain_sectors;
     const Scene far_scene = scenes::sphere_pair(centre, sector_size, axis);
     World far = make_world(far_scene, options);
     // A double global position at 1e12 only holds a sphere's place to 1.2e-4: the run at the origin
@@ -31,12 +35,14 @@ Outcome run_pair(const scenes::Centre& centre, double sector_size, const Eigen::
     // engine's, not the rounding of the scene's input.
     Scene origin_scene = far_scene;
     const std::map<BodyId, Eigen::Vector3d> start = relative_positions(far, centre);
-    for (BodyDesc& body : origin_scene.bodies) body.position = start.at(body.id);
+    for (BodyDesc& body : origin_scene.bodies)
+        body.position = start.at(body.id);
     World origin = make_world(origin_scene, options);
     run(origin, kFrames);
     run(far, kFrames);
     Outcome out;
-    out.error = summed_error(relative_positions(far, centre), relative_positions(origin, Eigen::Vector3d::Zero().eval()));
+    out.error = summed_error(relative_positions(far, centre),
+                             relative_positions(origin, Eigen::Vector3d::Zero().eval()));
     // Body 1 starts moving along +axis; after a bounce it moves along -axis.
     out.collided = far.body(1)->linear_velocity.dot(axis) < 0.0;
     return out;
@@ -91,8 +97,22 @@ TEST(Precision, ErrorIsZeroWhenTheOffsetIsAMultipleOfTheSectorSize) {
     // The same local coordinates as at the origin: the same floats, the same result, bit for bit.
     Outcome o = run_pair(Eigen::Vector3d(128.0 * 1e9, 0, 0), 128.0, Eigen::Vector3d::UnitX(), false);
     EXPECT_EQ(o.error, 0.0);
-    o = run_pair(SectorPosition{{(std::int64_t{1} << 61) + 5, 0, 0}, {0, 0, 0}}, 128.0, Eigen::Vector3d::UnitX(), false);
+    o = run_pair(SectorPosition{{(std::int64_t{1} << 61) + 5, 0, 0}, {0, 0, 0}}, 128.0,
+                 Eigen::Vector3d::UnitX(), false);
     EXPECT_EQ(o.error, 0.0);
+}
+
+TEST(Precision, ThePapersPlainSectorFramesAloneMissTheBoundOnTheDiagonal) {
+    // Why double positions and floating origins are on: with sector-centred float frames alone, the
+    // diagonal case at distance 1e3 and L = 1024 (local offsets of -447 on each axis) misses 3e-2.
+    const Eigen::Vector3d diagonal = Eigen::Vector3d::Ones().normalized();
+    const Eigen::Vector3d centre = 1e3 * diagonal;
+    Outcome plain = run_pair(centre, 1024.0, diagonal, false, true);
+    Outcome lpss = run_pair(centre, 1024.0, diagonal, false, false);
+    std::printf("diagonal, distance 1e3, L = 1024: error %.3g with plain sector frames, %.3g with lpss's\n",
+                plain.error, lpss.error);
+    EXPECT_GT(plain.error, 3e-2);
+    EXPECT_LT(lpss.error, plain.error / 10.0);
 }
 
 TEST(Precision, MonolithicFloatBulletFailsFarFromTheOrigin) {
@@ -105,7 +125,8 @@ TEST(Precision, MonolithicFloatBulletFailsFarFromTheOrigin) {
     EXPECT_GT(at_1e6.error, 100.0 * lpss_1e6.error);
     for (const Case& c : cases()) {
         const auto* g = std::get_if<Eigen::Vector3d>(&c.centre);
-        if (g != nullptr && g->norm() < 16777216.0) continue;
+        if (g != nullptr && g->norm() < 16777216.0)
+            continue;
         Outcome o = run_pair(c.centre, 128.0, c.axis, true);
         EXPECT_FALSE(o.collided) << describe(c);
         EXPECT_GT(o.error, 1.0) << describe(c);

@@ -24,10 +24,12 @@ BodyDesc ball(BodyId id, const Eigen::Vector3d& at, double radius = 0.5) {
 }
 
 bool same_state(const std::vector<BodySnapshot>& a, const std::vector<BodySnapshot>& b) {
-    if (a.size() != b.size()) return false;
+    if (a.size() != b.size())
+        return false;
     for (std::size_t n = 0; n < a.size(); ++n) {
         if (a[n].id != b[n].id || a[n].position.sector != b[n].position.sector ||
-            a[n].position.local != b[n].position.local || a[n].orientation.coeffs() != b[n].orientation.coeffs() ||
+            a[n].position.local != b[n].position.local ||
+            a[n].orientation.coeffs() != b[n].orientation.coeffs() ||
             a[n].linear_velocity != b[n].linear_velocity || a[n].angular_velocity != b[n].angular_velocity) {
             return false;
         }
@@ -86,8 +88,10 @@ TEST(World, BadBodiesAreRefusedAndTheWorldIsUnchanged) {
     // All or nothing: one bad body among good ones adds none of them.
     Status st = world.add_bodies({ball(6, {1, 1, 1}), ball(7, {2, nan, 2}), ball(8, {500, 1, 1})});
     ASSERT_FALSE(st.ok());
-    EXPECT_NE(st.error().message.find("body 'ball7' (id 7): position.global is not finite"), std::string::npos);
-    EXPECT_FALSE(world.add_bodies({ball(6, {1, 1, 1}), ball(6, {3, 1, 1})}).ok()) << "duplicate within the batch";
+    EXPECT_NE(st.error().message.find("body 'ball7' (id 7): position.global is not finite"),
+              std::string::npos);
+    EXPECT_FALSE(world.add_bodies({ball(6, {1, 1, 1}), ball(6, {3, 1, 1})}).ok())
+        << "duplicate within the batch";
 
     // Commands on unknown bodies or with bad numbers.
     EXPECT_NE(world.remove_body(99).error().message.find("unknown body id 99"), std::string::npos);
@@ -137,7 +141,8 @@ TEST(World, AFastBodyCrossesSeveralSectorsInOneFrame) {
 
 TEST(World, NoBordersNoCloningWork) {
     World world = empty_world();
-    for (int n = 0; n < 20; ++n) ASSERT_TRUE(world.add_body(ball(n + 1, {n * 384.0 + 7, 0, -n * 640.0 - 3})).ok());
+    for (int n = 0; n < 20; ++n)
+        ASSERT_TRUE(world.add_body(ball(n + 1, {n * 384.0 + 7, 0, -n * 640.0 - 3})).ok());
     run(world, 30);
     EXPECT_EQ(world.last_frame_stats().border_bodies, 0u);
     EXPECT_EQ(world.last_frame_stats().clones, 0u);
@@ -172,7 +177,8 @@ TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
     world.step();
     bool ended = false;
     for (const ContactEvent& e : world.contact_events()) {
-        if (e.kind == ContactEvent::Kind::End && e.a == 1 && e.b == 2) ended = true;
+        if (e.kind == ContactEvent::Kind::End && e.a == 1 && e.b == 2)
+            ended = true;
     }
     EXPECT_TRUE(ended);
     EXPECT_FALSE(world.contains(2));
@@ -193,8 +199,10 @@ TEST(World, ThreadsDoNotChangeTheResult) {
     for (int i = 0; i < 6; ++i) {
         for (int j = 0; j < 4; ++j) {
             for (int k = 0; k < 6; ++k) {
-                BodyDesc b = ball(id++, {8.0 - 3.0 + i * 1.1, -3.0 + j * 1.1, 8.0 - 3.0 + k * 1.1 + 0.05 * j});
-                if (id % 3 == 0) b.shape = Box{{0.4, 0.4, 0.4}};
+                BodyDesc b =
+                    ball(id++, {8.0 - 3.0 + i * 1.1, -3.0 + j * 1.1, 8.0 - 3.0 + k * 1.1 + 0.05 * j});
+                if (id % 3 == 0)
+                    b.shape = Box{{0.4, 0.4, 0.4}};
                 scene.bodies.push_back(b);
             }
         }
@@ -223,7 +231,8 @@ TEST(World, PlanesAreInEverySectorNearThem) {
     ground.id = 100;
     ground.shape = Plane{{0, 1, 0}, -2.0};
     ASSERT_TRUE(world.add_body(ground).ok());
-    for (int n = 0; n < 5; ++n) ASSERT_TRUE(world.add_body(ball(n + 1, {n * 1e7 - 3e7, 3.0, n * 77.0})).ok());
+    for (int n = 0; n < 5; ++n)
+        ASSERT_TRUE(world.add_body(ball(n + 1, {n * 1e7 - 3e7, 3.0, n * 77.0})).ok());
     run(world, 180);
     for (int n = 0; n < 5; ++n) {
         double y = world.grid().to_global(world.body(n + 1)->position).y();

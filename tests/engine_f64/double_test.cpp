@@ -14,7 +14,9 @@ using testing::relative_positions;
 using testing::run;
 using testing::summed_error;
 
-TEST(DoubleEngine, IsBuiltAgainstDoubleBullet) { EXPECT_STREQ(World::physics_precision(), "double"); }
+TEST(DoubleEngine, IsBuiltAgainstDoubleBullet) {
+    EXPECT_STREQ(World::physics_precision(), "double");
+}
 
 TEST(DoubleEngine, MonolithicSpheresCollideAt1e9) {
     EngineOptions monolithic;
@@ -25,7 +27,8 @@ TEST(DoubleEngine, MonolithicSpheresCollideAt1e9) {
     run(origin, 180);
     run(moved, 180);
     EXPECT_LT(moved.body(1)->linear_velocity.x(), 0.0);
-    EXPECT_LT(summed_error(relative_positions(moved, far), relative_positions(origin, Eigen::Vector3d::Zero().eval())),
+    EXPECT_LT(summed_error(relative_positions(moved, far),
+                           relative_positions(origin, Eigen::Vector3d::Zero().eval())),
               1e-3);
 }
 
@@ -46,7 +49,8 @@ TEST(DoubleEngine, SectorizedDoubleMatchesTheOriginAt1e13Sectors) {
     World moved = make_world(scenes::sphere_pair(far, 1024.0));
     run(origin, 180);
     run(moved, 180);
-    EXPECT_LT(summed_error(relative_positions(moved, far), relative_positions(origin, Eigen::Vector3d::Zero().eval())),
+    EXPECT_LT(summed_error(relative_positions(moved, far),
+                           relative_positions(origin, Eigen::Vector3d::Zero().eval())),
               1e-6);
 }
 

@@ -5,12 +5,14 @@
 namespace lpss::scenes {
 
 SectorPosition centre_on(const SectorGrid& grid, const Centre& centre) {
-    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre)) return grid.from_global(*global).value();
+    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre))
+        return grid.from_global(*global).value();
     return grid.canonical(std::get<SectorPosition>(centre)).value();
 }
 
 Centre shifted(const Centre& centre, const Eigen::Vector3d& by) {
-    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre)) return Eigen::Vector3d(*global + by);
+    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre))
+        return Eigen::Vector3d(*global + by);
     SectorPosition p = std::get<SectorPosition>(centre);
     p.local += by;
     return p;

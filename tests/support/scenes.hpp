@@ -19,7 +19,8 @@ Centre shifted(const Centre& centre, const Eigen::Vector3d& by);
 
 /// The paper's Figure 5: two unit spheres 4.1 apart along `axis`, at 2 units/s towards each other,
 /// restitution 1, no friction, no gravity, no sleeping (ids 1 and 2; body 1 starts at -axis).
-Scene sphere_pair(const Centre& centre, double sector_size, const Eigen::Vector3d& axis = Eigen::Vector3d::UnitX());
+Scene sphere_pair(const Centre& centre, double sector_size,
+                  const Eigen::Vector3d& axis = Eigen::Vector3d::UnitX());
 
 /// Eight spheres in the eight octants around `centre`, moving towards it at 2 units/s (ids 1..8).
 Scene sphere_octet(const Centre& centre, double sector_size);

@@ -1,12 +1,12 @@
 // lpss-sim as a user runs it: the CSV it writes, and the message and exit status of a refused scene.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
@@ -18,9 +18,11 @@ struct Result {
 Result run(const std::string& command) {
     Result r;
     std::FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (pipe == nullptr) return r;
+    if (pipe == nullptr)
+        return r;
     std::array<char, 4096> buffer{};
-    while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
+    while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr)
+        r.output += buffer.data();
     int raw = pclose(pipe);
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     return r;
@@ -42,13 +44,15 @@ TEST(LpssSim, WritesTheStateCsv) {
     std::getline(in, header);
     EXPECT_EQ(header, "frame,id,x,y,z,qx,qy,qz,qw,vx,vy,vz,si,sj,sk,lx,ly,lz");
     std::vector<std::string> rows;
-    for (std::string line; std::getline(in, line);) rows.push_back(line);
+    for (std::string line; std::getline(in, line);)
+        rows.push_back(line);
     ASSERT_EQ(rows.size(), 8u) << "frames 0, 60, 120, 180 of two bodies";
     EXPECT_EQ(rows.front().rfind("0,1,-2.0499999999999998,0,0,", 0), 0u) << "17 digits: " << rows.front();
     // The last row: body 2 after the bounce, moving right at 2.2 units/s, 17 significant digits.
     std::istringstream last(rows.back());
     std::vector<std::string> fields;
-    for (std::string f; std::getline(last, f, ',');) fields.push_back(f);
+    for (std::string f; std::getline(last, f, ',');)
+        fields.push_back(f);
     ASSERT_EQ(fields.size(), 18u);
     EXPECT_EQ(fields[0], "180");
     EXPECT_EQ(fields[1], "2");
@@ -66,10 +70,12 @@ TEST(LpssSim, PrintsASummaryWithoutCsv) {
 
 TEST(LpssSim, RefusesABadSceneWithANamedError) {
     const std::string path = temp_path("bad.textproto");
-    std::ofstream(path) << "sector_size: 128\nbodies { id: 3 name: \"crate\" shape { box { half_extents { x: 1 y: 0 z: 1 } } } mass: 1 }\n";
+    std::ofstream(path) << "sector_size: 128\nbodies { id: 3 name: \"crate\" shape { box { half_extents { x: "
+                           "1 y: 0 z: 1 } } } mass: 1 }\n";
     Result r = run(kSim + " " + path + " --frames 10");
     EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.output.find("body 'crate' (id 3): shape.box.half_extents.y must be > 0, got 0"), std::string::npos)
+    EXPECT_NE(r.output.find("body 'crate' (id 3): shape.box.half_extents.y must be > 0, got 0"),
+              std::string::npos)
         << r.output;
     std::remove(path.c_str());
     r = run(kSim + " /nonexistent.textproto");

@@ -26,8 +26,7 @@ Status validate_body(const BodyDesc& body, const WorldSettings& settings, bool s
 Status validate_scene(const Scene& scene, bool sectorized = true);
 
 /// Parses a scene in Protobuf text format and validates it. `source` names the text in messages.
-Expected<Scene> parse_scene(std::string_view text, std::string_view source = "scene",
-                            bool sectorized = true);
+Expected<Scene> parse_scene(std::string_view text, std::string_view source = "scene", bool sectorized = true);
 
 /// Reads and parses a scene file.
 Expected<Scene> load_scene(const std::string& path, bool sectorized = true);

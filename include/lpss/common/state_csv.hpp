@@ -13,6 +13,7 @@ namespace lpss {
 void write_state_csv_header(std::FILE* out);
 
 /// Writes one body of one frame; x,y,z is the double global position made with `grid`.
-void write_state_csv_row(std::FILE* out, std::uint64_t frame, const BodySnapshot& body, const SectorGrid& grid);
+void write_state_csv_row(std::FILE* out, std::uint64_t frame, const BodySnapshot& body,
+                         const SectorGrid& grid);
 
 }  // namespace lpss
