@@ -17,8 +17,7 @@ class ParseErrors : public google::protobuf::io::ErrorCollector {
 public:
     explicit ParseErrors(std::string_view source) : source_(source) {}
     void AddError(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
-        if (!text_.empty())
-            text_ += "\n";
+        if (!text_.empty()) text_ += "\n";
         text_ += source_ + ":" + std::to_string(line + 1) + ":" + std::to_string(column + 1) + ": " + message;
     }
     const std::string& text() const { return text_; }
@@ -28,9 +27,7 @@ private:
     std::string text_;
 };
 
-Eigen::Vector3d from_pb(const pb::Vec3& v) {
-    return {v.x(), v.y(), v.z()};
-}
+Eigen::Vector3d from_pb(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 void to_pb(const Eigen::Vector3d& v, pb::Vec3* out) {
     out->set_x(v.x());
@@ -54,8 +51,7 @@ Shape shape_from_pb(const pb::Shape& s) {
         }
         case pb::Shape::kPlane: {
             Plane plane{from_pb(s.plane().normal()), s.plane().offset()};
-            if (plane.normal.allFinite() && plane.normal.norm() > 0.0)
-                plane.normal.normalize();
+            if (plane.normal.allFinite() && plane.normal.norm() > 0.0) plane.normal.normalize();
             return plane;
         }
         case pb::Shape::KIND_NOT_SET:
@@ -105,8 +101,7 @@ BodyDesc body_from_pb(const pb::Body& b, std::string& shape_problem) {
     }
     body.linear_velocity = from_pb(b.linear_velocity());
     body.angular_velocity = from_pb(b.angular_velocity());
-    if (b.has_material())
-        body.material = Material{b.material().friction(), b.material().restitution()};
+    if (b.has_material()) body.material = Material{b.material().friction(), b.material().restitution()};
     body.ccd = b.ccd();
     return body;
 }
@@ -124,15 +119,13 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     Scene scene;
     WorldSettings& s = scene.settings;
     s.sector_size = message.sector_size();
-    if (message.has_dt())
-        s.dt = message.dt();
-    if (message.has_precision_radius())
-        s.precision_radius = message.precision_radius();
+    if (message.has_dt()) s.dt = message.dt();
+    if (message.has_precision_radius()) s.precision_radius = message.precision_radius();
     s.gravity = from_pb(message.gravity());
-    if (message.has_hysteresis())
-        s.hysteresis = message.hysteresis();
-    if (message.has_sleeping())
-        s.sleeping = message.sleeping();
+    if (message.has_hysteresis()) s.hysteresis = message.hysteresis();
+    if (message.has_sleeping()) s.sleeping = message.sleeping();
+    if (message.has_substeps()) s.substeps = message.substeps();
+    if (message.has_solver_iterations()) s.solver_iterations = message.solver_iterations();
     if (message.has_precision_radius() && !(message.precision_radius() > 0.0)) {
         return Error{std::string(source) + ": scene: precision_radius must be > 0 when given"};
     }
@@ -140,11 +133,9 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     for (const pb::Body& b : message.bodies()) {
         std::string shape_problem;
         scene.bodies.push_back(body_from_pb(b, shape_problem));
-        if (!shape_problem.empty())
-            problems += (problems.empty() ? "" : "\n") + shape_problem;
+        if (!shape_problem.empty()) problems += (problems.empty() ? "" : "\n") + shape_problem;
     }
-    if (!problems.empty())
-        return Error{std::string(source) + ": " + problems};
+    if (!problems.empty()) return Error{std::string(source) + ": " + problems};
     if (Status st = validate_scene(scene, sectorized); !st) {
         return Error{std::string(source) + ": " + st.error().message};
     }
@@ -153,8 +144,7 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
 
 Expected<Scene> load_scene(const std::string& path, bool sectorized) {
     std::ifstream in(path, std::ios::binary);
-    if (!in)
-        return Error{path + ": cannot open scene file"};
+    if (!in) return Error{path + ": cannot open scene file"};
     std::ostringstream text;
     text << in.rdbuf();
     return parse_scene(text.str(), path, sectorized);
@@ -165,11 +155,12 @@ std::string format_scene(const Scene& scene) {
     const WorldSettings& s = scene.settings;
     message.set_sector_size(s.sector_size);
     message.set_dt(s.dt);
-    if (s.precision_radius > 0.0)
-        message.set_precision_radius(s.precision_radius);
+    if (s.precision_radius > 0.0) message.set_precision_radius(s.precision_radius);
     to_pb(s.gravity, message.mutable_gravity());
     message.set_hysteresis(s.hysteresis);
     message.set_sleeping(s.sleeping);
+    if (s.substeps != 0) message.set_substeps(s.substeps);
+    message.set_solver_iterations(s.solver_iterations);
     for (const BodyDesc& body : scene.bodies) {
         pb::Body* b = message.add_bodies();
         b->set_id(body.id);

@@ -47,9 +47,7 @@ std::string format_vector(const Eigen::Vector3d& v) {
 
 }  // namespace
 
-double max_sector_size(double precision_radius) {
-    return 2.0 * precision_radius / (3.0 * std::sqrt(3.0));
-}
+double max_sector_size(double precision_radius) { return 2.0 * precision_radius / (3.0 * std::sqrt(3.0)); }
 
 Status check_sector_size(double sector_size, double precision_radius) {
     double largest = max_sector_size(precision_radius);

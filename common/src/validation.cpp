@@ -22,8 +22,7 @@ public:
         : body_(body), settings_(settings), sectorized_(sectorized) {}
 
     Status run() {
-        if (body_.id == 0)
-            fail("id", "must be non-zero (is it missing?)");
+        if (body_.id == 0) fail("id", "must be non-zero (is it missing?)");
         check_shape();
         finite_at_least("mass", body_.mass, 0.0);
         if (is_plane(body_.shape) && body_.mass != 0.0) {
@@ -36,25 +35,21 @@ public:
         } else if (q.norm() < 1e-9) {
             fail("orientation", "is a zero quaternion");
         }
-        if (!body_.linear_velocity.allFinite())
-            fail("linear_velocity", "is not finite");
-        if (!body_.angular_velocity.allFinite())
-            fail("angular_velocity", "is not finite");
+        if (!body_.linear_velocity.allFinite()) fail("linear_velocity", "is not finite");
+        if (!body_.angular_velocity.allFinite()) fail("angular_velocity", "is not finite");
         finite_at_least("material.friction", body_.material.friction, 0.0);
         finite_at_least("material.restitution", body_.material.restitution, 0.0);
         if (body_.material.restitution > 1.0) {
             fail("material.restitution",
                  "must be <= 1 (a bounce may not add energy), got " + number(body_.material.restitution));
         }
-        if (problems_.empty())
-            return {};
+        if (problems_.empty()) return {};
         return Error{problems_};
     }
 
 private:
     void fail(const std::string& field, const std::string& what) {
-        if (!problems_.empty())
-            problems_ += "\n";
+        if (!problems_.empty()) problems_ += "\n";
         problems_ += describe_body(body_) + ": " + field + " " + what;
     }
 
@@ -91,8 +86,7 @@ private:
             if (!p->normal.allFinite() || p->normal.norm() < 1e-9) {
                 fail("shape.plane.normal", "must be a finite non-zero vector");
             }
-            if (!std::isfinite(p->offset))
-                fail("shape.plane.offset", "is not finite");
+            if (!std::isfinite(p->offset)) fail("shape.plane.offset", "is not finite");
         }
         if (problems_.empty() && sectorized_ && !is_plane(shape)) {
             double extent = 2.0 * bounding_radius(shape);
@@ -122,8 +116,7 @@ private:
         const auto& pts = hull.points;
         std::size_t a = 0, b = 0;
         for (std::size_t n = 0; n < pts.size(); ++n) {
-            if ((pts[n] - pts[a]).squaredNorm() > (pts[b] - pts[a]).squaredNorm())
-                b = n;
+            if ((pts[n] - pts[a]).squaredNorm() > (pts[b] - pts[a]).squaredNorm()) b = n;
         }
         double scale = (pts[b] - pts[a]).norm();
         Eigen::Vector3d axis = (pts[b] - pts[a]).normalized();
@@ -131,8 +124,7 @@ private:
         double best = 0.0;
         for (std::size_t n = 0; n < pts.size(); ++n) {
             double d = (pts[n] - pts[a]).cross(axis).norm();
-            if (d > best)
-                best = d, c = n;
+            if (d > best) best = d, c = n;
         }
         double volume_height = 0.0;
         if (best > 1e-9 * scale) {
@@ -151,8 +143,7 @@ private:
                 fail("position.global", "is not finite");
             } else if (sectorized_) {
                 Expected<SectorPosition> p = SectorGrid(settings_.sector_size).from_global(*global);
-                if (!p.ok())
-                    fail("position.global", p.error().message);
+                if (!p.ok()) fail("position.global", p.error().message);
             }
         } else {
             const auto& sector = std::get<SectorPosition>(body_.position);
@@ -162,8 +153,7 @@ private:
                 fail("position.sector.local", "is not finite");
             } else if (sectorized_) {
                 Expected<SectorPosition> p = SectorGrid(settings_.sector_size).canonical(sector);
-                if (!p.ok())
-                    fail("position.sector", p.error().message);
+                if (!p.ok()) fail("position.sector", p.error().message);
             }
         }
     }
@@ -178,11 +168,9 @@ private:
 
 std::string describe_body(const BodyDesc& body) {
     std::string out = "body ";
-    if (!body.name.empty())
-        out += "'" + body.name + "' (";
+    if (!body.name.empty()) out += "'" + body.name + "' (";
     out += "id " + std::to_string(body.id);
-    if (!body.name.empty())
-        out += ")";
+    if (!body.name.empty()) out += ")";
     return out;
 }
 
@@ -194,12 +182,9 @@ Status validate(const WorldSettings& s) {
         }
         return {};
     };
-    if (Status st = positive("sector_size", s.sector_size); !st)
-        return st;
-    if (Status st = positive("dt", s.dt); !st)
-        return st;
-    if (s.dt > 1.0)
-        return Error{"scene: dt must be <= 1 second, got " + number(s.dt)};
+    if (Status st = positive("sector_size", s.sector_size); !st) return st;
+    if (Status st = positive("dt", s.dt); !st) return st;
+    if (s.dt > 1.0) return Error{"scene: dt must be <= 1 second, got " + number(s.dt)};
     if (!std::isfinite(s.precision_radius) || s.precision_radius < 0.0) {
         return Error{"scene: precision_radius must be a finite number >= 0, got " +
                      number(s.precision_radius)};
@@ -209,8 +194,15 @@ Status validate(const WorldSettings& s) {
             return Error{"scene: " + st.error().message};
         }
     }
-    if (!s.gravity.allFinite())
-        return Error{"scene: gravity is not finite"};
+    if (!s.gravity.allFinite()) return Error{"scene: gravity is not finite"};
+    if (s.substeps < 0 || s.substeps > 64) {
+        return Error{"scene: substeps must be between 0 (automatic) and 64, got " +
+                     std::to_string(s.substeps)};
+    }
+    if (s.solver_iterations < 1 || s.solver_iterations > 1000) {
+        return Error{"scene: solver_iterations must be between 1 and 1000, got " +
+                     std::to_string(s.solver_iterations)};
+    }
     if (!std::isfinite(s.hysteresis) || s.hysteresis < 0.0 || s.hysteresis > 0.25) {
         return Error{"scene: hysteresis must be a fraction of sector_size in [0, 0.25], got " +
                      number(s.hysteresis)};
@@ -218,33 +210,32 @@ Status validate(const WorldSettings& s) {
     return {};
 }
 
+int WorldSettings::substeps_per_frame() const {
+    if (substeps > 0) return substeps;
+    return std::max(1, static_cast<int>(std::ceil(dt * 60.0 - 1e-9)));
+}
+
 Status validate_body(const BodyDesc& body, const WorldSettings& settings, bool sectorized) {
     return BodyChecker(body, settings, sectorized).run();
 }
 
 Status validate_scene(const Scene& scene, bool sectorized) {
-    if (Status st = validate(scene.settings); !st)
-        return st;
+    if (Status st = validate(scene.settings); !st) return st;
     std::string problems;
     int count = 0;
     auto add = [&](const std::string& message) {
-        if (++count > 20)
-            return;
-        if (!problems.empty())
-            problems += "\n";
+        if (++count > 20) return;
+        if (!problems.empty()) problems += "\n";
         problems += message;
     };
     std::unordered_set<BodyId> ids;
     for (const BodyDesc& body : scene.bodies) {
-        if (Status st = validate_body(body, scene.settings, sectorized); !st)
-            add(st.error().message);
+        if (Status st = validate_body(body, scene.settings, sectorized); !st) add(st.error().message);
         if (body.id != 0 && !ids.insert(body.id).second)
             add(describe_body(body) + ": id is used by another body");
     }
-    if (count > 20)
-        problems += "\n... and " + std::to_string(count - 20) + " more problems";
-    if (count > 0)
-        return Error{problems};
+    if (count > 20) problems += "\n... and " + std::to_string(count - 20) + " more problems";
+    if (count > 0) return Error{problems};
     return {};
 }
 

@@ -57,8 +57,7 @@ struct BodyRecord {
 
     Clone* clone_in(const Sector* host) {
         for (Clone& c : clones) {
-            if (c.host == host)
-                return &c;
+            if (c.host == host) return &c;
         }
         return nullptr;
     }

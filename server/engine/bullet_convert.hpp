@@ -19,9 +19,7 @@ inline btQuaternion to_bt(const Eigen::Quaterniond& q) {
                         static_cast<btScalar>(q.z()), static_cast<btScalar>(q.w()));
 }
 
-inline Eigen::Vector3d to_eigen(const btVector3& v) {
-    return {v.x(), v.y(), v.z()};
-}
+inline Eigen::Vector3d to_eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
 inline Eigen::Quaterniond to_eigen(const btQuaternion& q) {
     return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());

@@ -41,16 +41,13 @@ struct OriginalsInBox : btBroadphaseAabbCallback {
     std::vector<std::uint32_t>& found;
 };
 
-bool less_by_key(const SectorKey& a, const SectorKey& b) {
-    return a < b;
-}
+bool less_by_key(const SectorKey& a, const SectorKey& b) { return a < b; }
 
 }  // namespace
 
 void World::Impl::update_reach(std::uint32_t slot) {
     BodyRecord& rec = record(slot);
-    if (!rec.alive || rec.plane)
-        return;
+    if (!rec.alive || rec.plane) return;
     const btRigidBody& rb = *rec.rb;
     btVector3 lo, hi;
     rb.getCollisionShape()->getAabb(rb.getWorldTransform(), lo, hi);
@@ -75,8 +72,7 @@ void World::Impl::update_reach(std::uint32_t slot) {
         crosses = crosses || lo_idx[a] != 0 || hi_idx[a] != 0;
     }
     if (!crosses) {
-        if (!rec.border_cells.empty())
-            set_border_cells(slot, {});
+        if (!rec.border_cells.empty()) set_border_cells(slot, {});
         return;
     }
     std::vector<SectorKey> cells;
@@ -84,11 +80,9 @@ void World::Impl::update_reach(std::uint32_t slot) {
     for (std::int64_t i = lo_idx[0]; i <= hi_idx[0]; ++i) {
         for (std::int64_t j = lo_idx[1]; j <= hi_idx[1]; ++j) {
             for (std::int64_t k = lo_idx[2]; k <= hi_idx[2]; ++k) {
-                if (i == 0 && j == 0 && k == 0)
-                    continue;
+                if (i == 0 && j == 0 && k == 0) continue;
                 SectorKey cell = owner + SectorKey{i, j, k};
-                if (in_range(cell))
-                    cells.push_back(cell);
+                if (in_range(cell)) cells.push_back(cell);
             }
         }
     }
@@ -98,41 +92,32 @@ void World::Impl::update_reach(std::uint32_t slot) {
 void World::Impl::set_border_cells(std::uint32_t slot, std::vector<SectorKey> cells) {
     BodyRecord& rec = record(slot);
     std::sort(cells.begin(), cells.end(), less_by_key);
-    if (cells == rec.border_cells)
-        return;
+    if (cells == rec.border_cells) return;
     auto contains = [](const std::vector<SectorKey>& sorted, const SectorKey& key) {
         return std::binary_search(sorted.begin(), sorted.end(), key, less_by_key);
     };
     for (const SectorKey& old_cell : rec.border_cells) {
-        if (contains(cells, old_cell))
-            continue;
+        if (contains(cells, old_cell)) continue;
         auto it = border_registry.find(old_cell);
         std::vector<std::uint32_t>& list = it->second;
         auto pos = std::find(list.begin(), list.end(), slot);
         *pos = list.back();
         list.pop_back();
-        if (list.empty())
-            border_registry.erase(it);
+        if (list.empty()) border_registry.erase(it);
     }
     for (const SectorKey& new_cell : cells) {
-        if (!contains(rec.border_cells, new_cell))
-            border_registry[new_cell].push_back(slot);
+        if (!contains(rec.border_cells, new_cell)) border_registry[new_cell].push_back(slot);
     }
-    if (rec.border_cells.empty() && !cells.empty())
-        ++border_bodies;
-    if (!rec.border_cells.empty() && cells.empty())
-        --border_bodies;
+    if (rec.border_cells.empty() && !cells.empty()) ++border_bodies;
+    if (!rec.border_cells.empty() && cells.empty()) --border_bodies;
     rec.border_cells = std::move(cells);
 }
 
-void World::Impl::require(std::uint32_t slot, Sector* target) {
-    requirements.emplace_back(target, slot);
-}
+void World::Impl::require(std::uint32_t slot, Sector* target) { requirements.emplace_back(target, slot); }
 
 void World::Impl::evaluate_cell(const SectorKey& cell) {
     auto it = border_registry.find(cell);
-    if (it == border_registry.end())
-        return;
+    if (it == border_registry.end()) return;
     const std::vector<std::uint32_t>& foreign = it->second;
     Sector* sector = find_sector(cell);
     const double dt = settings.dt;
@@ -150,19 +135,15 @@ void World::Impl::evaluate_cell(const SectorKey& cell) {
             sector->broadphase.aabbTest(to_bt(query.min), to_bt(query.max), collect);
             for (std::uint32_t x : found_scratch) {
                 const BodyRecord& rx = record(x);
-                if (!ry.dynamic && !rx.dynamic)
-                    continue;
-                if (ry.dynamic)
-                    require(x, ry.sector);
-                if (rx.dynamic)
-                    require(y, sector);
+                if (!ry.dynamic && !rx.dynamic) continue;
+                if (ry.dynamic) require(x, ry.sector);
+                if (rx.dynamic) require(y, sector);
             }
         }
     }
 
     // Foreign bodies of different sectors meeting inside this cell: sweep and prune along x.
-    if (foreign.size() < 2)
-        return;
+    if (foreign.size() < 2) return;
     box_scratch.clear();
     for (std::uint32_t y : foreign) {
         const BodyRecord& ry = record(y);
@@ -177,12 +158,9 @@ void World::Impl::evaluate_cell(const SectorKey& cell) {
              ++q) {
             const auto& [box_q, slot_q] = box_scratch[q];
             const BodyRecord& rq = record(slot_q);
-            if (rp.sector == rq.sector || (!rp.dynamic && !rq.dynamic) || !box_p.overlaps(box_q))
-                continue;
-            if (rp.dynamic)
-                require(slot_q, rp.sector);
-            if (rq.dynamic)
-                require(slot_p, rq.sector);
+            if (rp.sector == rq.sector || (!rp.dynamic && !rq.dynamic) || !box_p.overlaps(box_q)) continue;
+            if (rp.dynamic) require(slot_q, rp.sector);
+            if (rq.dynamic) require(slot_p, rq.sector);
         }
     }
 }
@@ -203,8 +181,7 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         }
     }
     awake_list.clear();
-    if (options.monolithic)
-        return;
+    if (options.monolithic) return;
 
     // ...plus those that receive a clone of an awake body. The cells to evaluate are the stepped sectors
     // and every cell that a body of a stepped sector reaches into; a sector that joins the set brings
@@ -249,25 +226,21 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     // Bring each stepped sector's clones to what is required: create the missing ones (in key order,
     // so that runs are reproducible), confirm the rest, and release the clones nobody needs any more.
     std::sort(requirements.begin(), requirements.end(), [&](const auto& a, const auto& b) {
-        if (a.first != b.first)
-            return a.first->key < b.first->key;
+        if (a.first != b.first) return a.first->key < b.first->key;
         return a.second < b.second;
     });
     requirements.erase(std::unique(requirements.begin(), requirements.end()), requirements.end());
     for (auto [target, slot] : requirements) {
-        if (!target->stepping)
-            continue;
+        if (!target->stepping) continue;
         Clone* clone = record(slot).clone_in(target);
-        if (clone == nullptr)
-            clone = &create_clone(slot, *target);
+        if (clone == nullptr) clone = &create_clone(slot, *target);
         clone->confirmed_frame = frame;
     }
     for (Sector* s : step_set) {
         for (std::size_t n = s->hosted.size(); n-- > 0;) {
             std::uint32_t slot = s->hosted[n];
             BodyRecord& rec = record(slot);
-            if (rec.plane)
-                continue;
+            if (rec.plane) continue;
             Clone* clone = rec.clone_in(s);
             if (clone->confirmed_frame != frame) {
                 release_clone(slot, *s);
@@ -338,8 +311,7 @@ void World::Impl::sync_clone(const BodyRecord& rec, Clone& clone) const {
     copy.forceActivationState(original.getActivationState());
     copy.setDeactivationTime(original.getDeactivationTime());
     // The step refreshes only moving objects' broadphase boxes: a resting clone's box is refreshed here.
-    if (!copy.isActive() && copy.getBroadphaseHandle() != nullptr)
-        clone.host->world.updateSingleAabb(&copy);
+    if (!copy.isActive() && copy.getBroadphaseHandle() != nullptr) clone.host->world.updateSingleAabb(&copy);
 }
 
 }  // namespace lpss

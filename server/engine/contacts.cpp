@@ -32,8 +32,7 @@ void World::Impl::count_contact(const ContactRecord& contact, const SectorKey& w
 void World::Impl::forget_contacts(Sector& sector, BodyId id) {
     auto involved = [id](const ContactRecord& c) { return c.a == id || c.b == id; };
     for (const ContactRecord& c : sector.contacts) {
-        if (involved(c))
-            count_contact(c, sector.key, -1);
+        if (involved(c)) count_contact(c, sector.key, -1);
     }
     sector.contacts.erase(std::remove_if(sector.contacts.begin(), sector.contacts.end(), involved),
                           sector.contacts.end());
@@ -57,8 +56,7 @@ void World::Impl::merge_contacts() {
             }
         }
         sector->contacts.swap(sector->fresh_contacts);
-        if (sector->awake)
-            wake(*sector);
+        if (sector->awake) wake(*sector);
     }
 
     events.clear();
@@ -83,8 +81,7 @@ void World::Impl::merge_contacts() {
     }
     changed_pairs.clear();
     std::sort(events.begin(), events.end(), [](const ContactEvent& x, const ContactEvent& y) {
-        if (x.kind != y.kind)
-            return x.kind < y.kind;
+        if (x.kind != y.kind) return x.kind < y.kind;
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     });
 }

@@ -3,13 +3,14 @@
 namespace lpss::engine {
 
 Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfiguration* configuration,
-               btConstraintSolver* solver, const btVector3& gravity)
+               btConstraintSolver* solver, const btVector3& gravity, int solver_iterations)
     : key(k),
       anchor(a),
       dispatcher(configuration),
       broadphase(),
       world(&dispatcher, &broadphase, solver, configuration) {
     world.setGravity(gravity);
+    world.getSolverInfo().m_numIterations = solver_iterations;
     // Bodies are placed, moved and read by the engine directly: no interpolation of motion states.
     world.setSynchronizeAllMotionStates(false);
     // Only moving objects need their broadphase boxes refreshed each step; the engine refreshes a

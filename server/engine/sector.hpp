@@ -29,7 +29,7 @@ struct ContactRecord {
 class Sector {
 public:
     Sector(const SectorKey& key, const Eigen::Vector3d& anchor, btCollisionConfiguration* configuration,
-           btConstraintSolver* solver, const btVector3& gravity);
+           btConstraintSolver* solver, const btVector3& gravity, int solver_iterations);
     ~Sector();
     Sector(const Sector&) = delete;
     Sector& operator=(const Sector&) = delete;

@@ -24,9 +24,7 @@ namespace {
 // from this distance on.
 constexpr btScalar kTouchDistance = btScalar(0.005);
 
-Role role_of(const btCollisionObject* object) {
-    return static_cast<Role>(object->getUserIndex2());
-}
+Role role_of(const btCollisionObject* object) { return static_cast<Role>(object->getUserIndex2()); }
 
 }  // namespace
 
@@ -59,21 +57,25 @@ void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
 }
 
 void World::Impl::step_sectors() {
-    const btScalar dt = static_cast<btScalar>(settings.dt);
+    const int substeps = settings.substeps_per_frame();
+    const btScalar dt = static_cast<btScalar>(settings.dt / substeps);
     pool.run(step_set.size(), [&](std::size_t index, int worker) {
         Sector& sector = *step_set[index];
-        sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
+        for (int n = 0; n < substeps; ++n) {
+            sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
+            // Every dynamic original, not only the awake ones: a body that fell asleep during this step
+            // still moved in it.
+            for (std::uint32_t slot : sector.originals) {
+                if (bodies[slot].dynamic) track_position(bodies[slot], dt);
+            }
+        }
 
         bool awake = false;
         double max_speed = 0.0;
         for (std::uint32_t slot : sector.originals) {
             BodyRecord& rec = bodies[slot];
-            if (!rec.dynamic)
-                continue;
+            if (!rec.dynamic) continue;
             btRigidBody& rb = *rec.rb;
-            // Every dynamic original, not only the awake ones: a body that fell asleep during this step
-            // still moved in it.
-            track_position(rec, dt);
             awake = awake || rb.isActive();
             double speed =
                 rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
@@ -89,12 +91,10 @@ void World::Impl::step_sectors() {
         for (int m = 0; m < manifolds; ++m) {
             const btPersistentManifold* manifold = sector.dispatcher.getManifoldByIndexInternal(m);
             const int points = manifold->getNumContacts();
-            if (points == 0)
-                continue;
+            if (points == 0) continue;
             const btCollisionObject* o0 = manifold->getBody0();
             const btCollisionObject* o1 = manifold->getBody1();
-            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone)
-                continue;
+            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone) continue;
             btScalar nearest = std::numeric_limits<btScalar>::max();
             btScalar impulse = 0;
             btVector3 point(0, 0, 0);
@@ -104,8 +104,7 @@ void World::Impl::step_sectors() {
                 impulse += contact.getAppliedImpulse();
                 point += contact.getPositionWorldOnB();
             }
-            if (nearest > kTouchDistance)
-                continue;
+            if (nearest > kTouchDistance) continue;
             ContactRecord record;
             record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].desc.id;
             record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].desc.id;

@@ -23,8 +23,7 @@ void ThreadPool::drain(int worker) {
 }
 
 void ThreadPool::run(std::size_t count, const std::function<void(std::size_t, int)>& task) {
-    if (count == 0)
-        return;
+    if (count == 0) return;
     if (workers_.empty() || count == 1) {
         for (std::size_t i = 0; i < count; ++i)
             task(i, 0);
@@ -51,15 +50,13 @@ void ThreadPool::work(int worker) {
         {
             std::unique_lock<std::mutex> lock(mutex_);
             wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-            if (stopping_)
-                return;
+            if (stopping_) return;
             seen = generation_;
         }
         drain(worker);
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            if (--busy_ == 0)
-                done_.notify_one();
+            if (--busy_ == 0) done_.notify_one();
         }
     }
 }

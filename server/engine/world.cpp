@@ -72,8 +72,7 @@ World& World::operator=(World&&) noexcept = default;
 World::~World() = default;
 
 Expected<World> World::create(const WorldSettings& settings, const EngineOptions& options) {
-    if (Status st = validate(settings); !st)
-        return st.error();
+    if (Status st = validate(settings); !st) return st.error();
     if (options.threads < 1 || options.threads > 256) {
         return Error{"threads must be between 1 and 256, got " + std::to_string(options.threads)};
     }
@@ -82,16 +81,12 @@ Expected<World> World::create(const WorldSettings& settings, const EngineOptions
 
 Expected<World> World::create(const Scene& scene, const EngineOptions& options) {
     Expected<World> world = create(scene.settings, options);
-    if (!world)
-        return world;
-    if (Status st = world->add_bodies(scene.bodies); !st)
-        return st.error();
+    if (!world) return world;
+    if (Status st = world->add_bodies(scene.bodies); !st) return st.error();
     return world;
 }
 
-const char* World::physics_precision() {
-    return sizeof(btScalar) == sizeof(double) ? "double" : "float";
-}
+const char* World::physics_precision() { return sizeof(btScalar) == sizeof(double) ? "double" : "float"; }
 
 // ---------------------------------------------------------------------------------------------------
 // Sectors
@@ -102,8 +97,7 @@ Sector* World::Impl::find_sector(const SectorKey& key) const {
 }
 
 Eigen::Vector3d World::Impl::anchor_near(const Eigen::Vector3d& local) const {
-    if (anchor_quantum == 0.0)
-        return Eigen::Vector3d::Zero();
+    if (anchor_quantum == 0.0) return Eigen::Vector3d::Zero();
     return (local / anchor_quantum).array().round() * anchor_quantum;
 }
 
@@ -111,8 +105,7 @@ void World::Impl::follow_bodies(Sector& sector) {
     // The anchor follows the centre of the box around the sector's originals once that centre has moved
     // by more than L/16: rarely enough to cost nothing, often enough that Bullet's coordinates stay
     // within the bodies' own spread.
-    if (anchor_quantum == 0.0 || sector.originals.empty())
-        return;
+    if (anchor_quantum == 0.0 || sector.originals.empty()) return;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector3d hi = -lo;
     for (std::uint32_t slot : sector.originals) {
@@ -120,8 +113,7 @@ void World::Impl::follow_bodies(Sector& sector) {
         hi = hi.cwiseMax(record(slot).local);
     }
     Eigen::Vector3d centre = 0.5 * (lo + hi);
-    if ((centre - sector.anchor).cwiseAbs().maxCoeff() <= settings.sector_size / 16.0)
-        return;
+    if ((centre - sector.anchor).cwiseAbs().maxCoeff() <= settings.sector_size / 16.0) return;
     sector.move_anchor(anchor_near(centre));
     // Originals are placed again from their double positions, so that no rounding is added.
     for (std::uint32_t slot : sector.originals) {
@@ -134,10 +126,9 @@ void World::Impl::follow_bodies(Sector& sector) {
 
 Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& first_local) {
     auto it = sectors.find(key);
-    if (it != sectors.end())
-        return *it->second;
+    if (it != sectors.end()) return *it->second;
     auto sector = std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
-                                           solvers[0].get(), gravity);
+                                           solvers[0].get(), gravity, settings.solver_iterations);
     Sector& s = *sector;
     sectors.emplace(key, std::move(sector));
     for (std::uint32_t slot : planes)
@@ -148,8 +139,7 @@ Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& fir
 void World::Impl::destroy_sector(Sector& sector) {
     // Clones and plane instances hosted here go back to their bodies; what the sector saw touching ends.
     for (std::size_t n = sector.hosted.size(); n-- > 0;) {
-        if (n >= sector.hosted.size())
-            continue;
+        if (n >= sector.hosted.size()) continue;
         std::uint32_t slot = sector.hosted[n];
         BodyRecord& rec = record(slot);
         if (rec.plane) {
@@ -187,8 +177,7 @@ void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
     // that touches it (bodies and their clones stay within about 2 L of the sector's centre), and its
     // constant would be a large float: such sectors get no instance.
     double constant = plane.offset + plane.normal.dot(grid.offset_in(rec.plane_anchor, sector.key));
-    if (!options.monolithic && std::fabs(constant) > 3.0 * settings.sector_size)
-        return;
+    if (!options.monolithic && std::fabs(constant) > 3.0 * settings.sector_size) return;
     constant -= plane.normal.dot(sector.anchor);
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, rec.shape.get());
     info.m_friction = static_cast<btScalar>(rec.desc.material.friction);
@@ -207,16 +196,13 @@ void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
 
 Expected<std::uint32_t> World::Impl::slot_of(BodyId id) const {
     auto it = slots.find(id);
-    if (it == slots.end())
-        return Error{"unknown body id " + std::to_string(id)};
+    if (it == slots.end()) return Error{"unknown body id " + std::to_string(id)};
     return it->second;
 }
 
 Status World::Impl::check_new_body(const BodyDesc& body) const {
-    if (Status st = validate_body(body, settings, !options.monolithic); !st)
-        return st;
-    if (slots.count(body.id))
-        return Error{describe_body(body) + ": id is used by another body"};
+    if (Status st = validate_body(body, settings, !options.monolithic); !st) return st;
+    if (slots.count(body.id)) return Error{describe_body(body) + ": id is used by another body"};
     return {};
 }
 
@@ -260,8 +246,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     }
 
     rec.mass = static_cast<btScalar>(desc.mass);
-    if (rec.dynamic)
-        rec.shape->calculateLocalInertia(rec.mass, rec.inertia);
+    if (rec.dynamic) rec.shape->calculateLocalInertia(rec.mass, rec.inertia);
     btRigidBody::btRigidBodyConstructionInfo info(rec.mass, nullptr, rec.shape.get(), rec.inertia);
     info.m_friction = static_cast<btScalar>(desc.material.friction);
     info.m_restitution = static_cast<btScalar>(desc.material.restitution);
@@ -273,8 +258,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
         rb.setCcdMotionThreshold(static_cast<btScalar>(0.5 * engine::inner_radius(desc.shape)));
         rb.setCcdSweptSphereRadius(static_cast<btScalar>(0.9 * engine::inner_radius(desc.shape)));
     }
-    if (rec.dynamic && !settings.sleeping)
-        rb.forceActivationState(DISABLE_DEACTIVATION);
+    if (rec.dynamic && !settings.sleeping) rb.forceActivationState(DISABLE_DEACTIVATION);
     rb.setLinearVelocity(to_bt(desc.linear_velocity));
     rb.setAngularVelocity(to_bt(desc.angular_velocity));
 
@@ -287,14 +271,12 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     rec.sector = &sector;
     rec.index_in_sector = static_cast<std::uint32_t>(sector.originals.size());
     sector.originals.push_back(slot);
-    if (rec.dynamic)
-        wake(sector);
+    if (rec.dynamic) wake(sector);
     dirty.push_back(slot);
 }
 
 Status World::add_body(const BodyDesc& body) {
-    if (Status st = impl_->check_new_body(body); !st)
-        return st;
+    if (Status st = impl_->check_new_body(body); !st) return st;
     impl_->insert_body(body);
     return {};
 }
@@ -302,10 +284,8 @@ Status World::add_body(const BodyDesc& body) {
 Status World::add_bodies(const std::vector<BodyDesc>& bodies) {
     std::unordered_set<BodyId> ids;
     for (const BodyDesc& body : bodies) {
-        if (Status st = impl_->check_new_body(body); !st)
-            return st;
-        if (!ids.insert(body.id).second)
-            return Error{describe_body(body) + ": id is used by another body"};
+        if (Status st = impl_->check_new_body(body); !st) return st;
+        if (!ids.insert(body.id).second) return Error{describe_body(body) + ": id is used by another body"};
     }
     for (const BodyDesc& body : bodies)
         impl_->insert_body(body);
@@ -315,8 +295,7 @@ Status World::add_bodies(const std::vector<BodyDesc>& bodies) {
 Status World::remove_body(BodyId id) {
     Impl& w = *impl_;
     Expected<std::uint32_t> found = w.slot_of(id);
-    if (!found)
-        return found.error();
+    if (!found) return found.error();
     std::uint32_t slot = found.value();
     BodyRecord& rec = w.record(slot);
     if (rec.plane) {
@@ -338,8 +317,7 @@ Status World::remove_body(BodyId id) {
         w.record(moved).index_in_sector = rec.index_in_sector;
         sector.originals.pop_back();
         w.set_border_cells(slot, {});
-        if (sector.originals.empty())
-            w.destroy_sector(sector);
+        if (sector.originals.empty()) w.destroy_sector(sector);
     }
     w.dirty.erase(std::remove(w.dirty.begin(), w.dirty.end(), slot), w.dirty.end());
     w.spare_count -= rec.spare_clones.size();
@@ -388,21 +366,18 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     rec.index_in_sector = static_cast<std::uint32_t>(dest.originals.size());
     dest.originals.push_back(slot);
     wake(dest);
-    if (from.originals.empty())
-        pending_destroy.push_back(&from);
+    if (from.originals.empty()) pending_destroy.push_back(&from);
 }
 
 Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset) {
     Impl& w = *impl_;
     Expected<std::uint32_t> found = w.slot_of(id);
-    if (!found)
-        return found.error();
+    if (!found) return found.error();
     BodyRecord& rec = w.record(found.value());
     if (!impulse.allFinite() || !offset.allFinite()) {
         return Error{describe_body(rec.desc) + ": impulse and offset must be finite"};
     }
-    if (!rec.dynamic)
-        return Error{describe_body(rec.desc) + ": is static and takes no impulse"};
+    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and takes no impulse"};
     rec.rb->activate(true);
     rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
     w.wake(*rec.sector);
@@ -413,14 +388,12 @@ Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eig
 Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
     Impl& w = *impl_;
     Expected<std::uint32_t> found = w.slot_of(id);
-    if (!found)
-        return found.error();
+    if (!found) return found.error();
     BodyRecord& rec = w.record(found.value());
     if (!linear.allFinite() || !angular.allFinite()) {
         return Error{describe_body(rec.desc) + ": velocities must be finite"};
     }
-    if (!rec.dynamic)
-        return Error{describe_body(rec.desc) + ": is static and has no velocity"};
+    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and has no velocity"};
     rec.rb->activate(true);
     rec.rb->setLinearVelocity(to_bt(linear));
     rec.rb->setAngularVelocity(to_bt(angular));
@@ -432,9 +405,7 @@ Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen
 // ---------------------------------------------------------------------------------------------------
 // The frame
 
-void World::step() {
-    impl_->step();
-}
+void World::step() { impl_->step(); }
 
 void World::Impl::step() {
     auto start = std::chrono::steady_clock::now();
@@ -462,14 +433,12 @@ void World::Impl::step() {
     }
     dirty.clear();
 
-    if (!options.monolithic)
-        sectorize(candidates);
+    if (!options.monolithic) sectorize(candidates);
     // A sector may have been emptied, refilled and emptied again: destroy each once, if still empty.
     std::sort(pending_destroy.begin(), pending_destroy.end());
     pending_destroy.erase(std::unique(pending_destroy.begin(), pending_destroy.end()), pending_destroy.end());
     for (Sector* s : pending_destroy) {
-        if (s->originals.empty())
-            destroy_sector(*s);
+        if (s->originals.empty()) destroy_sector(*s);
     }
     pending_destroy.clear();
     auto sectorized = std::chrono::steady_clock::now();
@@ -515,20 +484,13 @@ BodySnapshot World::Impl::snapshot_of(const BodyRecord& rec) const {
     return out;
 }
 
-std::uint64_t World::frame() const {
-    return impl_->frame;
-}
-bool World::contains(BodyId id) const {
-    return impl_->slots.count(id) != 0;
-}
-std::size_t World::body_count() const {
-    return impl_->slots.size();
-}
+std::uint64_t World::frame() const { return impl_->frame; }
+bool World::contains(BodyId id) const { return impl_->slots.count(id) != 0; }
+std::size_t World::body_count() const { return impl_->slots.size(); }
 
 std::optional<BodySnapshot> World::body(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
-    if (!slot)
-        return std::nullopt;
+    if (!slot) return std::nullopt;
     return impl_->snapshot_of(impl_->record(slot.value()));
 }
 
@@ -536,8 +498,7 @@ std::vector<BodySnapshot> World::snapshot() const {
     std::vector<BodySnapshot> out;
     out.reserve(impl_->slots.size());
     for (const BodyRecord& rec : impl_->bodies) {
-        if (rec.alive)
-            out.push_back(impl_->snapshot_of(rec));
+        if (rec.alive) out.push_back(impl_->snapshot_of(rec));
     }
     std::sort(out.begin(), out.end(),
               [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
@@ -546,25 +507,18 @@ std::vector<BodySnapshot> World::snapshot() const {
 
 std::optional<BodyDesc> World::description(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
-    if (!slot)
-        return std::nullopt;
+    if (!slot) return std::nullopt;
     return impl_->record(slot.value()).desc;
 }
 
-const std::vector<ContactEvent>& World::contact_events() const {
-    return impl_->events;
-}
-const FrameStats& World::last_frame_stats() const {
-    return impl_->stats;
-}
+const std::vector<ContactEvent>& World::contact_events() const { return impl_->events; }
+const FrameStats& World::last_frame_stats() const { return impl_->stats; }
 
 std::optional<CloneCounts> World::clone_counts(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
-    if (!slot)
-        return std::nullopt;
+    if (!slot) return std::nullopt;
     const BodyRecord& rec = impl_->record(slot.value());
-    if (rec.plane)
-        return CloneCounts{0, 0};
+    if (rec.plane) return CloneCounts{0, 0};
     return CloneCounts{rec.clones.size(), rec.spare_clones.size()};
 }
 
@@ -577,14 +531,46 @@ std::vector<SectorKey> World::sectors() const {
     return out;
 }
 
-const WorldSettings& World::settings() const {
-    return impl_->settings;
+Status World::check_consistency() const {
+    const Impl& w = *impl_;
+    auto fail = [](const BodyRecord& rec, const std::string& what) {
+        return Error{describe_body(rec.desc) + ": " + what};
+    };
+    std::size_t alive = 0;
+    for (std::size_t slot = 0; slot < w.bodies.size(); ++slot) {
+        const BodyRecord& rec = w.bodies[slot];
+        if (!rec.alive) continue;
+        ++alive;
+        for (const Clone& c : rec.clones) {
+            if (w.find_sector(c.host->key) != c.host)
+                return fail(rec, "has a clone in a sector that does not exist");
+        }
+        if (rec.plane) continue;
+        const btRigidBody& rb = *rec.rb;
+        if (!rec.local.allFinite() || !to_eigen(rb.getLinearVelocity()).allFinite() ||
+            !to_eigen(rb.getAngularVelocity()).allFinite() ||
+            !to_eigen(rb.getWorldTransform().getRotation()).coeffs().allFinite()) {
+            return fail(rec, "state is not finite");
+        }
+        if (w.find_sector(rec.sector->key) != rec.sector) return fail(rec, "owner sector does not exist");
+        if (rec.index_in_sector >= rec.sector->originals.size() ||
+            rec.sector->originals[rec.index_in_sector] != slot) {
+            return fail(rec, "is not listed by its owner sector");
+        }
+        if (rb.getBroadphaseHandle() == nullptr) return fail(rec, "is not in its sector's physics world");
+        // After sectorization a centre is within the band; a frame's motion may carry it further.
+        const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size : 0.0);
+        if (rec.local.cwiseAbs().maxCoeff() > reach) return fail(rec, "lies far outside its sector");
+    }
+    if (alive != w.slots.size()) return Error{"body count and id index disagree"};
+    for (const auto& entry : w.sectors) {
+        if (entry.second->originals.empty()) return Error{"a sector owns no body but was not destroyed"};
+    }
+    return {};
 }
-const EngineOptions& World::options() const {
-    return impl_->options;
-}
-const SectorGrid& World::grid() const {
-    return impl_->grid;
-}
+
+const WorldSettings& World::settings() const { return impl_->settings; }
+const EngineOptions& World::options() const { return impl_->options; }
+const SectorGrid& World::grid() const { return impl_->grid; }
 
 }  // namespace lpss

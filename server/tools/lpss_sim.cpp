@@ -17,8 +17,7 @@ namespace {
 
 struct FileCloser {
     void operator()(std::FILE* f) const {
-        if (f != nullptr && f != stdout)
-            std::fclose(f);
+        if (f != nullptr && f != stdout) std::fclose(f);
     }
 };
 
@@ -126,8 +125,7 @@ int main(int argc, char** argv) {
             lpss::write_state_csv_row(csv.get(), world.frame(), b, world.grid());
         }
     };
-    if (csv)
-        write_frame();
+    if (csv) write_frame();
 
     Totals totals;
     auto start = std::chrono::steady_clock::now();
@@ -144,11 +142,9 @@ int main(int argc, char** argv) {
         totals.max_sectors = std::max(totals.max_sectors, s.sectors);
         totals.max_border_bodies = std::max(totals.max_border_bodies, s.border_bodies);
         for (const lpss::ContactEvent& e : world.contact_events()) {
-            if (e.kind == lpss::ContactEvent::Kind::Begin)
-                ++totals.contacts_begun;
+            if (e.kind == lpss::ContactEvent::Kind::Begin) ++totals.contacts_begun;
         }
-        if (csv && (f % every == 0 || f == frames))
-            write_frame();
+        if (csv && (f % every == 0 || f == frames)) write_frame();
     }
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (csv) {

@@ -32,9 +32,7 @@ bodies {
 }
 )";
 
-Scene good_scene() {
-    return parse_scene(kGoodScene, "good").value();
-}
+Scene good_scene() { return parse_scene(kGoodScene, "good").value(); }
 
 // Parses the good scene with one body field replaced, and returns the error message ("" if accepted).
 std::string refusal(const std::string& text) {

@@ -68,8 +68,7 @@ TEST(SectorGrid, RoundTripIsExactWhereDoublesCanHoldThePosition) {
              {0.0, 1e-7, -3.75, 1e3, -1e6, 16777216.0, 1e9 + 0.25, -1e12 - 0.5, 1e15, 123456789.123}) {
             // Where x / L passes 2^52 a double cannot tell one sector from the next: beyond the reach of
             // global positions (scenes give sector positions there).
-            if (std::fabs(x) / size > std::ldexp(1.0, 52))
-                continue;
+            if (std::fabs(x) / size > std::ldexp(1.0, 52)) continue;
             auto p = grid.from_global({x, -x, x * 0.5}).value();
             EXPECT_EQ(grid.to_global(p), Eigen::Vector3d(x, -x, x * 0.5)) << "size " << size << " x " << x;
             EXPECT_LT(p.local.x(), size / 2);

@@ -30,8 +30,7 @@ double error_against_origin(Make make, const scenes::Centre& centre, int frames,
         clones = std::max(clones, moved.last_frame_stats().clones);
         EXPECT_EQ(reference.last_frame_stats().clones, 0u) << "the reference must not touch a border";
     }
-    if (max_clones)
-        *max_clones = clones;
+    if (max_clones) *max_clones = clones;
     return summed_error(relative_positions(moved, centre),
                         relative_positions(reference, Eigen::Vector3d::Zero().eval()));
 }

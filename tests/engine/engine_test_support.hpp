@@ -12,8 +12,7 @@ namespace lpss::testing {
 
 inline World make_world(const Scene& scene, const EngineOptions& options = {}) {
     Expected<World> world = World::create(scene, options);
-    if (!world)
-        ADD_FAILURE() << world.error().message;
+    if (!world) ADD_FAILURE() << world.error().message;
     return std::move(world).value();
 }
 

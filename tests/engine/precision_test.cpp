@@ -125,8 +125,7 @@ TEST(Precision, MonolithicFloatBulletFailsFarFromTheOrigin) {
     EXPECT_GT(at_1e6.error, 100.0 * lpss_1e6.error);
     for (const Case& c : cases()) {
         const auto* g = std::get_if<Eigen::Vector3d>(&c.centre);
-        if (g != nullptr && g->norm() < 16777216.0)
-            continue;
+        if (g != nullptr && g->norm() < 16777216.0) continue;
         Outcome o = run_pair(c.centre, 128.0, c.axis, true);
         EXPECT_FALSE(o.collided) << describe(c);
         EXPECT_GT(o.error, 1.0) << describe(c);

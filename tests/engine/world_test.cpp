@@ -24,8 +24,7 @@ BodyDesc ball(BodyId id, const Eigen::Vector3d& at, double radius = 0.5) {
 }
 
 bool same_state(const std::vector<BodySnapshot>& a, const std::vector<BodySnapshot>& b) {
-    if (a.size() != b.size())
-        return false;
+    if (a.size() != b.size()) return false;
     for (std::size_t n = 0; n < a.size(); ++n) {
         if (a[n].id != b[n].id || a[n].position.sector != b[n].position.sector ||
             a[n].position.local != b[n].position.local ||
@@ -177,8 +176,7 @@ TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
     world.step();
     bool ended = false;
     for (const ContactEvent& e : world.contact_events()) {
-        if (e.kind == ContactEvent::Kind::End && e.a == 1 && e.b == 2)
-            ended = true;
+        if (e.kind == ContactEvent::Kind::End && e.a == 1 && e.b == 2) ended = true;
     }
     EXPECT_TRUE(ended);
     EXPECT_FALSE(world.contains(2));
@@ -201,8 +199,7 @@ TEST(World, ThreadsDoNotChangeTheResult) {
             for (int k = 0; k < 6; ++k) {
                 BodyDesc b =
                     ball(id++, {8.0 - 3.0 + i * 1.1, -3.0 + j * 1.1, 8.0 - 3.0 + k * 1.1 + 0.05 * j});
-                if (id % 3 == 0)
-                    b.shape = Box{{0.4, 0.4, 0.4}};
+                if (id % 3 == 0) b.shape = Box{{0.4, 0.4, 0.4}};
                 scene.bodies.push_back(b);
             }
         }

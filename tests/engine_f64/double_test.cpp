@@ -14,9 +14,7 @@ using testing::relative_positions;
 using testing::run;
 using testing::summed_error;
 
-TEST(DoubleEngine, IsBuiltAgainstDoubleBullet) {
-    EXPECT_STREQ(World::physics_precision(), "double");
-}
+TEST(DoubleEngine, IsBuiltAgainstDoubleBullet) { EXPECT_STREQ(World::physics_precision(), "double"); }
 
 TEST(DoubleEngine, MonolithicSpheresCollideAt1e9) {
     EngineOptions monolithic;

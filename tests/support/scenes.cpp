@@ -5,17 +5,44 @@
 namespace lpss::scenes {
 
 SectorPosition centre_on(const SectorGrid& grid, const Centre& centre) {
-    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre))
-        return grid.from_global(*global).value();
+    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre)) return grid.from_global(*global).value();
     return grid.canonical(std::get<SectorPosition>(centre)).value();
 }
 
 Centre shifted(const Centre& centre, const Eigen::Vector3d& by) {
-    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre))
-        return Eigen::Vector3d(*global + by);
+    if (const auto* global = std::get_if<Eigen::Vector3d>(&centre)) return Eigen::Vector3d(*global + by);
     SectorPosition p = std::get<SectorPosition>(centre);
     p.local += by;
     return p;
+}
+
+BodyDesc box_body(BodyId id, const Eigen::Vector3d& half_extents, double mass, const Centre& at) {
+    BodyDesc b;
+    b.id = id;
+    b.name = "box" + std::to_string(id);
+    b.shape = Box{half_extents};
+    b.mass = mass;
+    b.position = at;
+    return b;
+}
+
+BodyDesc sphere_body(BodyId id, double radius, double mass, const Centre& at) {
+    BodyDesc b;
+    b.id = id;
+    b.name = "sphere" + std::to_string(id);
+    b.shape = Sphere{radius};
+    b.mass = mass;
+    b.position = at;
+    return b;
+}
+
+BodyDesc ground_plane(BodyId id, const Centre& at, const Eigen::Vector3d& normal) {
+    BodyDesc b;
+    b.id = id;
+    b.name = "ground";
+    b.shape = Plane{normal.normalized(), 0.0};
+    b.position = at;
+    return b;
 }
 
 Scene sphere_pair(const Centre& centre, double sector_size, const Eigen::Vector3d& axis) {
@@ -66,20 +93,10 @@ Scene box_stack(const Centre& base, int count, double sector_size) {
     Scene scene;
     scene.settings.sector_size = sector_size;
     scene.settings.gravity = Eigen::Vector3d(0, -9.81, 0);
-    BodyDesc ground;
-    ground.id = 1000;
-    ground.name = "ground";
-    ground.shape = Plane{Eigen::Vector3d::UnitY(), 0.0};
-    ground.position = base;
-    scene.bodies.push_back(ground);
+    scene.bodies.push_back(ground_plane(1000, base));
     for (int n = 0; n < count; ++n) {
-        BodyDesc box;
-        box.id = static_cast<BodyId>(n + 1);
-        box.name = "box" + std::to_string(n + 1);
-        box.shape = Box{Eigen::Vector3d::Constant(0.5)};
-        box.mass = 1.0;
-        box.position = shifted(base, Eigen::Vector3d(0, 0.5 + n, 0));
-        scene.bodies.push_back(box);
+        scene.bodies.push_back(box_body(static_cast<BodyId>(n + 1), Eigen::Vector3d::Constant(0.5), 1.0,
+                                        shifted(base, Eigen::Vector3d(0, 0.5 + n, 0))));
     }
     return scene;
 }

@@ -17,6 +17,12 @@ SectorPosition centre_on(const SectorGrid& grid, const Centre& centre);
 /// `centre` moved by `by` (in double for a global centre, in the local offset for a sector centre).
 Centre shifted(const Centre& centre, const Eigen::Vector3d& by);
 
+/// One body of each kind, placed at a centre.
+BodyDesc box_body(BodyId id, const Eigen::Vector3d& half_extents, double mass, const Centre& at);
+BodyDesc sphere_body(BodyId id, double radius, double mass, const Centre& at);
+/// A static plane through `at` with the given normal.
+BodyDesc ground_plane(BodyId id, const Centre& at, const Eigen::Vector3d& normal = Eigen::Vector3d::UnitY());
+
 /// The paper's Figure 5: two unit spheres 4.1 apart along `axis`, at 2 units/s towards each other,
 /// restitution 1, no friction, no gravity, no sleeping (ids 1 and 2; body 1 starts at -axis).
 Scene sphere_pair(const Centre& centre, double sector_size,

@@ -18,8 +18,7 @@ struct Result {
 Result run(const std::string& command) {
     Result r;
     std::FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (pipe == nullptr)
-        return r;
+    if (pipe == nullptr) return r;
     std::array<char, 4096> buffer{};
     while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr)
         r.output += buffer.data();

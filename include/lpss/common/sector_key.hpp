@@ -24,10 +24,8 @@ struct SectorKey {
     friend bool operator!=(const SectorKey& a, const SectorKey& b) { return !(a == b); }
     /// Lexicographic order, for deterministic iteration over sets of sectors.
     friend bool operator<(const SectorKey& a, const SectorKey& b) {
-        if (a.i != b.i)
-            return a.i < b.i;
-        if (a.j != b.j)
-            return a.j < b.j;
+        if (a.i != b.i) return a.i < b.i;
+        if (a.j != b.j) return a.j < b.j;
         return a.k < b.k;
     }
     friend SectorKey operator+(const SectorKey& a, const SectorKey& b) {

@@ -34,9 +34,7 @@ struct Plane {
 
 using Shape = std::variant<Sphere, Box, Capsule, ConvexHull, Plane>;
 
-inline bool is_plane(const Shape& shape) {
-    return std::holds_alternative<Plane>(shape);
-}
+inline bool is_plane(const Shape& shape) { return std::holds_alternative<Plane>(shape); }
 
 /// Largest distance from the body's origin to a point of the shape: its axis-aligned bounding box has
 /// an edge of at most twice this in any orientation. Infinite for a plane.

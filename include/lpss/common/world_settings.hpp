@@ -17,6 +17,13 @@ struct WorldSettings {
     /// resting on a border does not move back and forth between sectors.
     double hysteresis = 1.0 / 16.0;
     bool sleeping = true;  ///< resting bodies fall asleep and cost nothing
+    /// Physics steps per frame, each of dt/substeps; 0 picks enough for steps of at most 1/60 s, so that
+    /// a coarse frame rate does not make contacts coarse.
+    int substeps = 0;
+    int solver_iterations = 10;  ///< constraint solver iterations per step (Bullet's default is 10)
+
+    /// The substeps actually used (resolving 0).
+    int substeps_per_frame() const;
 };
 
 /// Refuses non-finite or non-positive sizes and steps, a hysteresis outside [0, 1/4], and a sector size

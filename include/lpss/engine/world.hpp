@@ -118,6 +118,9 @@ public:
     std::optional<CloneCounts> clone_counts(BodyId id) const;
     /// Sectors that exist, in key order.
     std::vector<SectorKey> sectors() const;
+    /// Checks the engine's invariants: every body finite and owned by a sector that exists and lists
+    /// it, no empty sector, every clone hosted by a live sector. For tests and diagnostics: O(bodies).
+    Status check_consistency() const;
 
     const WorldSettings& settings() const;
     const EngineOptions& options() const;
