@@ -1,6 +1,7 @@
 // The engine's record of one body: its Bullet objects, where it lives, its reach and its clones.
 #pragma once
 
+#include <BulletCollision/BroadphaseCollision/btDbvt.h>
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
@@ -26,34 +27,45 @@ struct Clone {
     std::uint64_t confirmed_frame = 0;  ///< last frame the cloning stage found it needed
 };
 
+/// Hot fields first: the stages walk these records every frame.
 struct BodyRecord {
-    BodyDesc desc;  ///< as created, for descriptions and messages
+    // Read by every stage, every frame.
+    BodyId id = 0;
     bool alive = false;
     bool dynamic = false;
     bool plane = false;
-
-    std::unique_ptr<btCollisionShape> shape;  ///< shared by the original and every clone
-    std::unique_ptr<btRigidBody> rb;          ///< the original, in its owner sector; none for a plane
-    btScalar mass = 0;
-    btVector3 inertia{0, 0, 0};
-    double bound_radius = 0.0;
-
-    Sector* sector = nullptr;  ///< owner sector; none for a plane
-    /// Position of the original in its owner sector's frame, in double: the float engine's position is
-    /// this rounded (see World::Impl::integrate_positions).
-    Eigen::Vector3d local = Eigen::Vector3d::Zero();
     std::uint32_t index_in_sector = 0;
-
-    // A plane exists in every sector near it: dot(normal, p - anchor) = offset.
-    SectorPosition plane_anchor;
-
-    // Reach: the box the body may sweep this frame (owner-local) and the foreign sectors it touches.
-    Aabb reach;
-    std::vector<SectorKey> border_cells;
+    Sector* sector = nullptr;         ///< owner sector; none for a plane
+    std::unique_ptr<btRigidBody> rb;  ///< the original, in its owner sector; none for a plane
+    /// Position of the original in its owner sector's frame, in double: the float engine's position is
+    /// this rounded (see World::Impl::track_position).
+    Eigen::Vector3d local = Eigen::Vector3d::Zero();
+    std::vector<std::uint32_t> partners;  ///< bodies of other sectors that may touch it (reach.cpp)
     std::uint64_t visit_frame = 0;
+
+    // Reach (see reach.cpp): this frame's tight reach; a fat box, in the owner's frame, that holds every
+    // place the body may sweep until it is refreshed; and its leaves in the cell trees it enters.
+    Aabb reach;
+    std::uint64_t reach_frame = 0;  ///< the frame `reach` was computed in
+    Aabb fat;
+    const Sector* fat_owner = nullptr;  ///< the sector whose frame `fat` is in; refreshed when it changes
+    struct Leaf {
+        SectorKey cell;
+        btDbvtNode* node = nullptr;
+    };
+    std::vector<Leaf> leaves;
 
     std::vector<Clone> clones;
     std::vector<std::unique_ptr<btRigidBody>> spare_clones;
+
+    // Read when bodies and clones are made.
+    std::unique_ptr<btCollisionShape> shape;  ///< shared by the original and every clone
+    btScalar mass = 0;
+    btVector3 inertia{0, 0, 0};
+    double bound_radius = 0.0;
+    SectorPosition
+        plane_anchor;  ///< a plane exists in every sector near it: dot(normal, p - anchor) = offset
+    std::unique_ptr<BodyDesc> desc;  ///< as created: cold, for descriptions and messages
 
     Clone* clone_in(const Sector* host) {
         for (Clone& c : clones) {

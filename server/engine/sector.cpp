@@ -18,6 +18,18 @@ Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfigur
     world.setForceUpdateAllAabbs(false);
 }
 
+Sector::Sector(const SectorKey& k, const btVector3& gravity, int solver_iterations)
+    : key(k),
+      own_configuration(std::make_unique<btDefaultCollisionConfiguration>()),
+      own_solver(std::make_unique<btSequentialImpulseConstraintSolver>()),
+      dispatcher(own_configuration.get()),
+      broadphase(),
+      world(&dispatcher, &broadphase, own_solver.get(), own_configuration.get()) {
+    world.setGravity(gravity);
+    world.getSolverInfo().m_numIterations = solver_iterations;
+    world.setSynchronizeAllMotionStates(false);
+}
+
 Sector::~Sector() {
     // Objects still inserted belong to bodies that outlive this sector: take them out first so that the
     // world does not touch them while it is torn down.
@@ -44,7 +56,7 @@ void Sector::move_anchor(const Eigen::Vector3d& to) {
 }
 
 void Sector::step(btConstraintSolver* solver, btScalar dt) {
-    world.setConstraintSolver(solver);
+    if (!own_solver) world.setConstraintSolver(solver);
     // maxSubSteps = 0: exactly one step of dt, no accumulator, no interpolation.
     world.stepSimulation(dt, 0);
 }

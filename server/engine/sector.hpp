@@ -3,7 +3,11 @@
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include <memory>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -28,13 +32,17 @@ struct ContactRecord {
 /// A sector owns no bodies: originals and clones belong to their BodyRecord and are only inserted here.
 class Sector {
 public:
+    /// A sector sharing the world's collision configuration, stepped with a thread's solver.
     Sector(const SectorKey& key, const Eigen::Vector3d& anchor, btCollisionConfiguration* configuration,
            btConstraintSolver* solver, const btVector3& gravity, int solver_iterations);
+    /// A naive sector (EngineOptions::naive_sector_worlds): a default Bullet world of its own.
+    Sector(const SectorKey& key, const btVector3& gravity, int solver_iterations);
     ~Sector();
     Sector(const Sector&) = delete;
     Sector& operator=(const Sector&) = delete;
 
-    /// Steps the Bullet world once by dt with the given solver (each thread brings its own).
+    /// Steps the Bullet world once by dt with the given solver (each thread brings its own; a naive
+    /// sector uses its own).
     void step(btConstraintSolver* solver, btScalar dt);
 
     /// A sector-local position in the Bullet world's frame, and back.
@@ -45,6 +53,9 @@ public:
     void move_anchor(const Eigen::Vector3d& to);
 
     const SectorKey key;
+    // Only naive sectors own these; they come first so that they outlive the world using them.
+    std::unique_ptr<btDefaultCollisionConfiguration> own_configuration;
+    std::unique_ptr<btSequentialImpulseConstraintSolver> own_solver;
     /// Where, in sector-local coordinates, the Bullet world's origin sits. It follows the sector's
     /// bodies so that the floats Bullet computes with stay as small as the spread of those bodies,
     /// not as large as their offset from the sector's centre.
@@ -58,8 +69,10 @@ public:
     std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
 
-    double max_speed = 0.0;  ///< fastest original at the last step, to grow reach queries
-    bool awake = false;      ///< holds an awake dynamic original
+    /// The most any original's fat reach box has extended beyond its broadphase box (reach.cpp): the
+    /// growth of queries that look for this sector's bodies by fat box.
+    double fat_excess = 0.0;
+    bool awake = false;  ///< holds an awake dynamic original
     bool in_awake_list = false;
     bool stepping = false;  ///< in this frame's set of sectors to step
 };

@@ -71,18 +71,14 @@ void World::Impl::step_sectors() {
         }
 
         bool awake = false;
-        double max_speed = 0.0;
         for (std::uint32_t slot : sector.originals) {
-            BodyRecord& rec = bodies[slot];
-            if (!rec.dynamic) continue;
-            btRigidBody& rb = *rec.rb;
-            awake = awake || rb.isActive();
-            double speed =
-                rb.getLinearVelocity().length() + rb.getAngularVelocity().length() * rec.bound_radius;
-            max_speed = std::max(max_speed, speed);
+            const BodyRecord& rec = bodies[slot];
+            if (rec.dynamic && rec.rb->isActive()) {
+                awake = true;
+                break;
+            }
         }
         sector.awake = awake;
-        sector.max_speed = max_speed;
 
         // Touching pairs, named by the bodies' ids. Two clones touching say nothing about their
         // originals (who meet, if at all, in their own sectors), so they are skipped.
@@ -106,8 +102,8 @@ void World::Impl::step_sectors() {
             }
             if (nearest > kTouchDistance) continue;
             ContactRecord record;
-            record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].desc.id;
-            record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].desc.id;
+            record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].id;
+            record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].id;
             // Bullet's normal points from body 1 to body 0, ours from b to a.
             btVector3 normal = manifold->getContactPoint(0).m_normalWorldOnB;
             if (record.a > record.b) {

@@ -46,14 +46,15 @@ World::Impl::Impl(const WorldSettings& s, const EngineOptions& o)
       options(o),
       grid(s.sector_size),
       band(o.monolithic ? std::numeric_limits<double>::infinity() : s.sector_size * (0.5 + s.hysteresis)),
-      // Bullet keeps contact points up to gContactBreakingThreshold apart: reach boxes are grown by twice
-      // that so that a pair is found before Bullet would start to track it.
+      // Bullet tracks contact points up to gContactBreakingThreshold apart; its broadphase boxes carry
+      // that margin once refreshed by a step, not when just inserted. Reach boxes add twice the margin.
       reach_margin(2.0 * gContactBreakingThreshold + 0.01),
       precise_positions(o.double_positions && !o.monolithic),
       // A power of two, about L/64: far coarser than the float spacing inside a sector, so shifting by
       // an anchor is exact, and fine enough to keep the bodies' coordinates small.
-      anchor_quantum(o.floating_origins && !o.monolithic ? std::ldexp(1.0, std::ilogb(s.sector_size) - 6)
-                                                         : 0.0),
+      anchor_quantum(o.floating_origins && !o.monolithic && !o.naive_sector_worlds
+                         ? std::ldexp(1.0, std::ilogb(s.sector_size) - 6)
+                         : 0.0),
       gravity(to_bt(s.gravity)),
       pool(std::max(1, o.threads)) {
     for (int t = 0; t < pool.size(); ++t) {
@@ -127,8 +128,10 @@ void World::Impl::follow_bodies(Sector& sector) {
 Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& first_local) {
     auto it = sectors.find(key);
     if (it != sectors.end()) return *it->second;
-    auto sector = std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
-                                           solvers[0].get(), gravity, settings.solver_iterations);
+    auto sector = options.naive_sector_worlds
+                      ? std::make_unique<Sector>(key, gravity, settings.solver_iterations)
+                      : std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
+                                                 solvers[0].get(), gravity, settings.solver_iterations);
     Sector& s = *sector;
     sectors.emplace(key, std::move(sector));
     for (std::uint32_t slot : planes)
@@ -172,7 +175,7 @@ void World::Impl::wake(Sector& sector) {
 
 void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
     BodyRecord& rec = record(slot);
-    const Plane& plane = std::get<Plane>(rec.desc.shape);
+    const Plane& plane = std::get<Plane>(rec.desc->shape);
     // The plane's constant in this sector's frame. A sector far from the plane cannot hold anything
     // that touches it (bodies and their clones stay within about 2 L of the sector's centre), and its
     // constant would be a large float: such sectors get no instance.
@@ -180,8 +183,8 @@ void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
     if (!options.monolithic && std::fabs(constant) > 3.0 * settings.sector_size) return;
     constant -= plane.normal.dot(sector.anchor);
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, rec.shape.get());
-    info.m_friction = static_cast<btScalar>(rec.desc.material.friction);
-    info.m_restitution = static_cast<btScalar>(rec.desc.material.restitution);
+    info.m_friction = static_cast<btScalar>(rec.desc->material.friction);
+    info.m_restitution = static_cast<btScalar>(rec.desc->material.restitution);
     auto rb = std::make_unique<btRigidBody>(info);
     rb->setUserIndex(static_cast<int>(slot));
     rb->setUserIndex2(static_cast<int>(Role::PlaneInstance));
@@ -217,8 +220,9 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     }
     BodyRecord& rec = record(slot);
     rec = BodyRecord{};
-    rec.desc = desc;
-    rec.desc.orientation.normalize();
+    rec.id = desc.id;
+    rec.desc = std::make_unique<BodyDesc>(desc);
+    rec.desc->orientation.normalize();
     rec.alive = true;
     rec.dynamic = desc.mass > 0.0;
     rec.plane = is_plane(desc.shape);
@@ -237,7 +241,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     }
 
     if (rec.plane) {
-        std::get<Plane>(rec.desc.shape).normal.normalize();
+        std::get<Plane>(rec.desc->shape).normal.normalize();
         rec.plane_anchor = where;
         planes.push_back(slot);
         for (auto& entry : sectors)
@@ -265,7 +269,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     Sector& sector = sector_for(where.sector, where.local);
     // Without double positions the engine holds what Bullet holds: the position rounded to btScalar.
     rec.local = precise_positions ? where.local : sector.from_physics(sector.to_physics(where.local));
-    rb.setWorldTransform(btTransform(to_bt(rec.desc.orientation), sector.to_physics(where.local)));
+    rb.setWorldTransform(btTransform(to_bt(rec.desc->orientation), sector.to_physics(where.local)));
     rb.setInterpolationWorldTransform(rb.getWorldTransform());
     sector.world.addRigidBody(&rb);
     rec.sector = &sector;
@@ -316,7 +320,8 @@ Status World::remove_body(BodyId id) {
         sector.originals[rec.index_in_sector] = moved;
         w.record(moved).index_in_sector = rec.index_in_sector;
         sector.originals.pop_back();
-        w.set_border_cells(slot, {});
+        w.drop_pairs(slot);
+        w.remove_leaves(slot);
         if (sector.originals.empty()) w.destroy_sector(sector);
     }
     w.dirty.erase(std::remove(w.dirty.begin(), w.dirty.end(), slot), w.dirty.end());
@@ -356,7 +361,7 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
         rec.rb->setWorldTransform(transform);
         rec.rb->setInterpolationWorldTransform(transform);
         dest.world.addRigidBody(rec.rb.get());
-        forget_contacts(from, rec.desc.id);
+        forget_contacts(from, rec.id);
     }
     std::uint32_t moved = from.originals.back();
     from.originals[rec.index_in_sector] = moved;
@@ -375,9 +380,9 @@ Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eig
     if (!found) return found.error();
     BodyRecord& rec = w.record(found.value());
     if (!impulse.allFinite() || !offset.allFinite()) {
-        return Error{describe_body(rec.desc) + ": impulse and offset must be finite"};
+        return Error{describe_body(*rec.desc) + ": impulse and offset must be finite"};
     }
-    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and takes no impulse"};
+    if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and takes no impulse"};
     rec.rb->activate(true);
     rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
     w.wake(*rec.sector);
@@ -391,9 +396,9 @@ Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen
     if (!found) return found.error();
     BodyRecord& rec = w.record(found.value());
     if (!linear.allFinite() || !angular.allFinite()) {
-        return Error{describe_body(rec.desc) + ": velocities must be finite"};
+        return Error{describe_body(*rec.desc) + ": velocities must be finite"};
     }
-    if (!rec.dynamic) return Error{describe_body(rec.desc) + ": is static and has no velocity"};
+    if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and has no velocity"};
     rec.rb->activate(true);
     rec.rb->setLinearVelocity(to_bt(linear));
     rec.rb->setAngularVelocity(to_bt(angular));
@@ -469,10 +474,10 @@ void World::Impl::step() {
 
 BodySnapshot World::Impl::snapshot_of(const BodyRecord& rec) const {
     BodySnapshot out;
-    out.id = rec.desc.id;
+    out.id = rec.id;
     if (rec.plane) {
         out.position = rec.plane_anchor;
-        out.orientation = rec.desc.orientation;
+        out.orientation = rec.desc->orientation;
         return out;
     }
     const btRigidBody& rb = *rec.rb;
@@ -508,7 +513,7 @@ std::vector<BodySnapshot> World::snapshot() const {
 std::optional<BodyDesc> World::description(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
     if (!slot) return std::nullopt;
-    return impl_->record(slot.value()).desc;
+    return *impl_->record(slot.value()).desc;
 }
 
 const std::vector<ContactEvent>& World::contact_events() const { return impl_->events; }
@@ -534,7 +539,7 @@ std::vector<SectorKey> World::sectors() const {
 Status World::check_consistency() const {
     const Impl& w = *impl_;
     auto fail = [](const BodyRecord& rec, const std::string& what) {
-        return Error{describe_body(rec.desc) + ": " + what};
+        return Error{describe_body(*rec.desc) + ": " + what};
     };
     std::size_t alive = 0;
     for (std::size_t slot = 0; slot < w.bodies.size(); ++slot) {

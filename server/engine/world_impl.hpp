@@ -3,6 +3,7 @@
 // adding and removing bodies, commands, queries.
 #pragma once
 
+#include <BulletCollision/BroadphaseCollision/btDbvt.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 
 #include <memory>
@@ -17,6 +18,15 @@
 #include "thread_pool.hpp"
 
 namespace lpss {
+namespace engine {
+
+/// The fat reach boxes of every body touching one cell of the grid, in that cell's frame: the spatial
+/// index in which bodies of different sectors find each other (reach.cpp).
+struct CellTree {
+    btDbvt tree;
+};
+
+}  // namespace engine
 
 struct World::Impl {
     Impl(const WorldSettings& settings, const EngineOptions& options);
@@ -48,10 +58,18 @@ struct World::Impl {
     BodySnapshot snapshot_of(const engine::BodyRecord& record) const;
     void add_plane_instance(std::uint32_t slot, engine::Sector& sector);
 
-    // ---- cloning (cloning.cpp)
+    // ---- reach (reach.cpp) and cloning (cloning.cpp)
     void update_reach(std::uint32_t slot);
-    void set_border_cells(std::uint32_t slot, std::vector<SectorKey> cells);
-    void evaluate_cell(const SectorKey& cell);
+    engine::Aabb tight_reach(const engine::BodyRecord& record) const;
+    /// This frame's tight reach, computed once per frame.
+    const engine::Aabb& current_reach(std::uint32_t slot);
+    /// Whether two bodies of different sectors may touch this frame.
+    bool reaches_meet(std::uint32_t a, std::uint32_t b);
+    void place_leaves(std::uint32_t slot);
+    void remove_leaves(std::uint32_t slot);
+    void refresh_pairs(std::uint32_t slot);
+    void drop_pairs(std::uint32_t slot);
+    bool fat_overlap(const engine::BodyRecord& a, const engine::BodyRecord& b) const;
     void require(std::uint32_t slot, engine::Sector* target);
     engine::Clone& create_clone(std::uint32_t slot, engine::Sector& host);
     void release_clone(std::uint32_t slot, engine::Sector& host);
@@ -83,8 +101,8 @@ struct World::Impl {
     std::unordered_map<BodyId, std::uint32_t> slots;
     std::vector<std::uint32_t> planes;
 
-    /// Border registry: for each sector key, the foreign bodies whose reach enters it.
-    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> border_registry;
+    /// For each cell some body's fat box touches, the tree of those boxes.
+    std::unordered_map<SectorKey, std::unique_ptr<engine::CellTree>, SectorKeyHash> cell_trees;
     std::size_t border_bodies = 0;
 
     std::vector<std::uint32_t> dirty;         ///< bodies changed by commands since the last step
@@ -95,9 +113,7 @@ struct World::Impl {
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;
     std::vector<std::uint32_t> found_scratch;
-    std::vector<std::pair<engine::Aabb, std::uint32_t>> box_scratch;
-    std::vector<SectorKey> live_cells;
-    std::vector<SectorKey> evaluated_cells;
+    std::vector<std::pair<engine::Sector*, std::uint32_t>> missing_scratch;
     std::vector<std::pair<engine::Sector*, std::uint32_t>> requirements;
 
     struct PairHash {

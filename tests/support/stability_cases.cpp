@@ -106,8 +106,8 @@ Outcome mass_ratio(const Placement& where, double ratio) {
     Vec top = run.at(2, where.centre);
     o.metrics.push_back({"heavy box sunk (units)", 1.5 - top.y(), ratio > 500 ? 0.05 : 0.01, false,
                          "the light box holds: it is pressed in by millimetres, not squeezed out"});
-    o.metrics.push_back({"heavy box slid (units)", Vec(top.x(), 0, top.z()).norm(), ratio > 500 ? 0.05 : 0.02, false,
-                         "nothing pushes it sideways: only solver creep (measured 0.003 and 0.026)"});
+    o.metrics.push_back({"heavy box slid (units)", Vec(top.x(), 0, top.z()).norm(), ratio > 500 ? 0.05 : 0.02,
+                         false, "nothing pushes it sideways: only solver creep (measured 0.003 and 0.026)"});
     o.ms_per_frame = run.ms_per_frame();
     absorb(o, run);
     return o;
@@ -304,8 +304,8 @@ Scene pile(const Centre& corner, double sector_size) {
 struct PileShape {
     double mean_height = 0.0;
     double lowest = kInf;
-    double kinetic = 0.0;        ///< per body
-    double box_kinetic = 0.0;    ///< per box: boxes come to rest, spheres may roll away on the plane
+    double kinetic = 0.0;      ///< per body
+    double box_kinetic = 0.0;  ///< per box: boxes come to rest, spheres may roll away on the plane
     double fastest = 0.0;
 };
 
@@ -349,8 +349,9 @@ Outcome dense_pile(const Placement& where) {
     o.metrics.push_back({"kinetic energy vs the same pile in one sector (ratio)",
                          straddling.kinetic / reference.kinetic, 1.5, false,
                          "borders add no energy: a chaotic pile varies by tens of percent, not by factors"});
-    o.metrics.push_back({"fastest body vs the same pile in one sector (ratio)", straddling.fastest / reference.fastest,
-                         1.5, false, "nothing is flung faster than without borders"});
+    o.metrics.push_back({"fastest body vs the same pile in one sector (ratio)",
+                         straddling.fastest / reference.fastest, 1.5, false,
+                         "nothing is flung faster than without borders"});
     o.metrics.push_back({"kinetic energy per box after 10 s (J/kg)", straddling.box_kinetic, 0.05, false,
                          "the boxes come to rest"});
     o.ms_per_frame = run.ms_per_frame();

@@ -36,6 +36,10 @@ struct EngineOptions {
     /// physics engine computes with are as small as at the world origin. Off: the paper's sector-centred
     /// frames. No effect in monolithic mode.
     bool floating_origins = true;
+    /// For comparison only (lpss-bench's naive-bullet): every sector gets a default Bullet world of its
+    /// own (its own default collision configuration and solver, all boxes refreshed every step) and
+    /// every sector is stepped every frame, as one would without lpss's sharing and sleeping rules.
+    bool naive_sector_worlds = false;
 };
 
 /// Two bodies started or stopped touching. Reported with the ids of the bodies the user created,

@@ -1,0 +1,108 @@
+// instances (the paper's Figure 6): 128 unit boxes falling on the ground, spread over 1, 2, 4, ... 128
+// sectors: time per frame (600 frames, as the baseline notes measured), memory and creation time per
+// sector, against one default Bullet world per sector (naive-bullet) in the same run.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+#include "scenes.hpp"
+#include "subcommands.hpp"
+
+namespace lpss::bench {
+namespace {
+
+constexpr double kL = 64.0;
+
+Scene spread_boxes(int sectors) {
+    Scene s;
+    s.settings.sector_size = kL;
+    s.settings.gravity = Eigen::Vector3d(0, -9.81, 0);
+    s.bodies.push_back(scenes::ground_plane(100000, Eigen::Vector3d::Zero().eval()));
+    const int per_sector = 128 / sectors;
+    const int columns = static_cast<int>(std::ceil(std::sqrt(per_sector)));
+    BodyId id = 1;
+    for (int sector = 0; sector < sectors; ++sector) {
+        // Every other sector along x, so that no two groups share a border.
+        const double cx = 2.0 * kL * sector;
+        for (int n = 0; n < per_sector; ++n) {
+            Eigen::Vector3d p(cx + 1.5 * (n % columns - columns / 2), 2.0, 1.5 * (n / columns - columns / 2));
+            s.bodies.push_back(scenes::box_body(id++, Eigen::Vector3d::Constant(0.5), 1.0, p));
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+void run_instances(const Context& context) {
+    Table table(
+        {"config", "sectors", "ms_per_frame", "ratio_to_one", "bytes_per_sector", "create_us_per_sector"});
+    std::vector<Config> configs = {{"lpss-float", kL, false, false, "float"},
+                                   {"naive-bullet", kL, false, true, "float"}};
+    const std::vector<int> counts =
+        context.quick ? std::vector<int>{1, 8, 128} : std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128};
+    for (const Config& config : configs) {
+        if (!config.runs_here()) continue;
+        double one_ms = 0.0, one_bytes = 0.0, one_us = 0.0;
+        for (int n : counts) {
+            progress(fmt::format("instances: {} over {} sectors", config.label(), n));
+            const Scene scene = spread_boxes(n);
+            auto make = [&] { return make_world(scene, config.options()); };
+            const double ms = ms_per_frame_fresh(fmt::format("instances/{}/{}", config.name, n), make, 600,
+                                                 context.quick ? 0.05 : 0.5);
+            const double us = us_to_create(fmt::format("instances-create/{}/{}", config.name, n), make,
+                                           context.quick ? 0.05 : 0.3);
+            double bytes = 0.0;
+            {
+                const std::size_t before = heap_bytes();
+                World world = make();
+                for (int f = 0; f < 10; ++f)
+                    world.step();  // manifolds and solver scratch included
+                bytes = static_cast<double>(heap_bytes() - before);
+            }
+            if (n == 1) {
+                one_ms = ms;
+                one_bytes = bytes;
+                one_us = us;
+            }
+            // Per sector: what each sector beyond the first adds, the same 128 boxes being in every run;
+            // for one sector, the whole world.
+            const double bytes_per = n == 1 ? bytes : (bytes - one_bytes) / (n - 1);
+            const double us_per = n == 1 ? us : (us - one_us) / (n - 1);
+            table.add({config.name, std::to_string(n), num(ms, 5), num(ms / one_ms, 4), num(bytes_per, 6),
+                       num(us_per, 4)});
+        }
+    }
+
+    std::string md =
+        "128 unit boxes falling on the ground for 600 frames, spread evenly over N sectors (no two groups "
+        "touching). "
+        "ms_per_frame: Google Benchmark mean over whole 600-frame runs. bytes_per_sector and "
+        "create_us_per_sector: "
+        "what each sector beyond the first adds (for N = 1: the whole world with its 128 boxes). Targets for "
+        "lpss-float: ratio_to_one <= 1.15 at 128 sectors, <= 64 KiB and <= 50 us per sector.\n\n" +
+        table.markdown();
+    std::string plot = R"(set multiplot layout 1,3 title '128 boxes over N sectors'
+set logscale x 2
+set xlabel 'sectors'
+set key top left
+set title 'time per frame relative to one sector'
+set ylabel 'ratio to one sector'
+plot '$CSV' every ::1 using (strcol(1) eq 'lpss-float' ? $2 : 1/0):4 with linespoints pt 7 title 'lpss-float', \
+     '$CSV' every ::1 using (strcol(1) eq 'naive-bullet' ? $2 : 1/0):4 with linespoints pt 5 title 'naive-bullet'
+set title 'memory per extra sector'
+set logscale y
+set ylabel 'bytes'
+plot '$CSV' every ::2 using (strcol(1) eq 'lpss-float' && $2 > 1 ? $2 : 1/0):5 with linespoints pt 7 title 'lpss-float', \
+     '$CSV' every ::2 using (strcol(1) eq 'naive-bullet' && $2 > 1 ? $2 : 1/0):5 with linespoints pt 5 title 'naive-bullet'
+set title 'creation time per extra sector'
+set ylabel 'microseconds'
+plot '$CSV' every ::2 using (strcol(1) eq 'lpss-float' && $2 > 1 ? $2 : 1/0):6 with linespoints pt 7 title 'lpss-float', \
+     '$CSV' every ::2 using (strcol(1) eq 'naive-bullet' && $2 > 1 ? $2 : 1/0):6 with linespoints pt 5 title 'naive-bullet'
+unset multiplot
+)";
+    publish(context, "instances", table, "instances: many sectors (paper Figure 6)", md, plot);
+}
+
+}  // namespace lpss::bench

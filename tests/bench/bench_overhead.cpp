@@ -1,0 +1,90 @@
+// overhead (the paper's Figure 7): the time of sectorization and of cloning against the number of
+// bodies, up to 100,000, with many bodies near borders, beside the time of stepping.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <random>
+
+#include "scenes.hpp"
+#include "subcommands.hpp"
+
+namespace lpss::bench {
+namespace {
+
+/// Bodies in a 3D lattice 2 units apart, drifting at up to 1 unit/s in random directions without
+/// gravity: with L = 8 about a third of them are near a border at any time, and they keep crossing.
+Scene drifting_lattice(int count, double sector_size) {
+    Scene s;
+    s.settings.sector_size = sector_size;
+    s.settings.sleeping = false;
+    std::mt19937_64 random(12345);
+    std::uniform_real_distribution<double> speed(-0.6, 0.6);
+    const int side = static_cast<int>(std::ceil(std::cbrt(count)));
+    for (int n = 0; n < count; ++n) {
+        Eigen::Vector3d p(2.0 * (n % side), 2.0 * (n / side % side), 2.0 * (n / (side * side)));
+        BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
+                           : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
+        b.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
+        s.bodies.push_back(b);
+    }
+    return s;
+}
+
+}  // namespace
+
+void run_overhead(const Context& context) {
+    Table table({"config", "sector_size", "bodies", "sectors", "border_bodies", "clones", "ms_per_frame",
+                 "sectorize_ms", "clone_ms", "step_ms", "overhead_fraction"});
+    const std::vector<int> counts =
+        context.quick ? std::vector<int>{1000, 10000} : std::vector<int>{1000, 3000, 10000, 30000, 100000};
+    for (double L : {8.0, 32.0}) {
+        const Config config{"lpss-float", L, false, false, "float"};
+        if (!config.runs_here()) continue;
+        for (int n : counts) {
+            progress(fmt::format("overhead: {} with {} bodies", config.label(), n));
+            World world = make_world(drifting_lattice(n, L), config.options());
+            for (int f = 0; f < 5; ++f)
+                world.step();  // clones and sectors in place
+            double sectorize = 0, clone = 0, step = 0, frames = 0, border = 0, clones = 0, sectors = 0;
+            const double ms = ms_per_frame(fmt::format("overhead/{}/{}", L, n), world, 1,
+                                           context.quick ? 0.1 : 0.5, [&](const FrameStats& s) {
+                                               sectorize += s.sectorize_seconds;
+                                               clone += s.clone_seconds;
+                                               step += s.step_seconds;
+                                               border += static_cast<double>(s.border_bodies);
+                                               clones += static_cast<double>(s.clones);
+                                               sectors += static_cast<double>(s.sectors);
+                                               frames += 1;
+                                           });
+            const double total = sectorize + clone + step;
+            table.add({config.name, num(L), std::to_string(n), num(sectors / frames, 5),
+                       num(border / frames, 5), num(clones / frames, 5), num(ms, 4),
+                       num(1e3 * sectorize / frames, 4), num(1e3 * clone / frames, 4),
+                       num(1e3 * step / frames, 4), num((sectorize + clone) / total, 3)});
+        }
+    }
+    std::string md =
+        "Bodies in a lattice drifting at up to 1 unit/s without gravity (a third of them near a border at "
+        "any "
+        "time with L = 8). ms_per_frame: Google Benchmark; the stage split is the engine's own clock over "
+        "the same "
+        "frames. overhead_fraction = (sectorize + clone) / (sectorize + clone + step); target: under "
+        "0.05.\n\n" +
+        table.markdown();
+    std::string plot = R"(set multiplot layout 1,2 title 'Cost of sectorization and cloning'
+set logscale xy
+set xlabel 'bodies'
+set ylabel 'milliseconds per frame'
+set key top left
+do for [L in '8 32'] {
+  set title sprintf('L = %s', L)
+  plot '$CSV' every ::1 using ($2 == L+0 ? $3 : 1/0):10 with linespoints pt 7 title 'step', \
+       '$CSV' every ::1 using ($2 == L+0 ? $3 : 1/0):8 with linespoints pt 5 title 'sectorize', \
+       '$CSV' every ::1 using ($2 == L+0 ? $3 : 1/0):9 with linespoints pt 9 title 'clone'
+}
+unset multiplot
+)";
+    publish(context, "overhead", table, "overhead: sectorization and cloning (paper Figure 7)", md, plot);
+}
+
+}  // namespace lpss::bench
