@@ -20,6 +20,10 @@ using engine::Clone;
 using engine::Role;
 using engine::Sector;
 
+namespace {
+constexpr std::uint64_t kCloneLinger = 8;  ///< frames an unneeded clone stays before it is released
+}  // namespace
+
 void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     if (!options.monolithic) {
         for (std::uint32_t slot : candidates)
@@ -100,7 +104,10 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
             BodyRecord& rec = record(slot);
             if (rec.plane) continue;
             Clone* clone = rec.clone_in(s);
-            if (clone->confirmed_frame != frame) {
+            // A clone is let go only after it has gone unneeded for a few frames: taking an object out of a
+            // Bullet world scans the world's whole pair cache, and pairs near the edge of reach flicker.
+            // A lingering clone is a true copy of its original, so it changes nothing but the cost.
+            if (frame - clone->confirmed_frame > kCloneLinger) {
                 release_clone(slot, *s);
             } else if (rec.dynamic) {
                 sync_clone(rec, *clone);

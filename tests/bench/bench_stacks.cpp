@@ -95,7 +95,7 @@ void run_stacks(const Context& context) {
     const std::vector<Config> configs = comparison_configs();
     std::string plot = fmt::format(
         "set multiplot layout {},{} title 'Side view of the 10-box stacks after 10 s "
-        "(columns: distance from the origin)'\nset size ratio -1\nunset key\nset xrange "
+        "(columns: distance from the origin)'\nset datafile separator whitespace\nset size ratio -1\nunset key\nset xrange "
         "[-6:6]\nset yrange [-1:11]\nset xtics 5 font ',7'\nset ytics 5 font ',7'\n",
         configs.size(), distances.size());
     std::map<std::string, int> next_index;

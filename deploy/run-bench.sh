@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Runs lpss-bench sub-commands into docs/results/ and assembles docs/results.md from
+# docs/results.template.md, where {{NAME}} stands for the markdown NAME's run produced.
+# usage: deploy/run-bench.sh [SUBCOMMAND ...]   (default: all). Takes a quiet machine and ~15 minutes.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/deploy/setup.sh" "$root/build"
+out="$root/docs/results"
+subs=("$@")
+((${#subs[@]})) || subs=(precision pareto instances overhead stacks scaling stability)
+for sub in "${subs[@]}"; do
+    echo "lpss: lpss-bench $sub"
+    (cd "$root" && build/lpss-bench --out docs/results "$sub" >/dev/null)
+done
+# {{NAME}} on a line of its own stands for docs/results/NAME/NAME.md, its pictures re-pointed.
+template="$root/docs/results.template.md"
+{
+    while IFS= read -r line; do
+        if [[ "$line" =~ ^\{\{([a-z_]+)\}\}$ ]]; then
+            name="${BASH_REMATCH[1]}"
+            md="$out/$name/$name.md"
+            if [[ -f "$md" ]]; then
+                sed "s#]($name.png)#](results/$name/$name.png)#" "$md"
+            else
+                echo "(not measured yet: run deploy/run-bench.sh $name)"
+            fi
+        else
+            printf '%s\n' "$line"
+        fi
+    done <"$template"
+} >"$root/docs/results.md"
+echo "lpss: docs/results.md assembled"

@@ -1,0 +1,161 @@
+// Fast DDS entities for lpss programs, each owned by one RAII object: a participant (with its publisher,
+// subscriber and topics), typed writers and readers, and an inbox that wakes a thread when any of its
+// readers has data. Topic names and QoS live in topics.hpp.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "lpss/common/expected.hpp"
+
+namespace lpss::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// One DDS participant on a domain, with the publisher, subscriber and topics its writers and readers use.
+class Participant {
+public:
+    /// Joins `domain` with the profile in `profile_file`, or with lpss's built-in local profile (shared
+    /// memory and loopback only) when it is empty. Refused with the reason when the profile is unreadable
+    /// or the participant cannot be created.
+    static Expected<std::unique_ptr<Participant>> create(int domain, const std::string& profile_file,
+                                                         const std::string& name);
+    ~Participant();
+    Participant(const Participant&) = delete;
+    Participant& operator=(const Participant&) = delete;
+
+    /// The topic `name` of type PubSub (registered on first use).
+    template <class PubSub>
+    fdds::Topic* topic(const std::string& name) {
+        fdds::TypeSupport type(new PubSub());
+        return topic(name, type);
+    }
+    /// A content-filtered view of the sector frames topic holding only sectors with indices in
+    /// [lo, hi] on each axis (region_filter.hpp).
+    fdds::TopicDescription* sector_region(const std::string& frames_topic, const std::int64_t lo[3],
+                                          const std::int64_t hi[3]);
+
+    fdds::DomainParticipant* raw() { return participant_; }
+    fdds::Publisher* publisher() { return publisher_; }
+    fdds::Subscriber* subscriber() { return subscriber_; }
+    int domain() const { return domain_; }
+
+private:
+    Participant() = default;
+    fdds::Topic* topic(const std::string& name, fdds::TypeSupport& type);
+
+    int domain_ = 0;
+    fdds::DomainParticipant* participant_ = nullptr;
+    fdds::Publisher* publisher_ = nullptr;
+    fdds::Subscriber* subscriber_ = nullptr;
+    std::map<std::string, fdds::Topic*> topics_;
+    std::map<std::string, fdds::TopicDescription*> filtered_;
+    std::unique_ptr<fdds::IContentFilterFactory> region_factory_;
+    int next_filter_ = 0;
+};
+
+/// Wakes a waiting thread when any reader attached to it has data.
+class Inbox : public fdds::DataReaderListener {
+public:
+    void on_data_available(fdds::DataReader*) override;
+    void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& status) override;
+    /// Waits until data arrived since the last call, or the timeout passed. True when data arrived.
+    bool wait(std::chrono::milliseconds timeout);
+    /// Wakes the waiting thread without data (to stop it).
+    void poke();
+    int matched_writers() const { return matched_.load(); }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool pending_ = false;
+    std::atomic<int> matched_{0};
+};
+
+/// A typed data writer; counts the readers it has matched.
+template <class T>
+class Writer : public fdds::DataWriterListener {
+public:
+    Writer(Participant& participant, fdds::Topic* topic, const fdds::DataWriterQos& qos)
+        : participant_(participant),
+          writer_(participant.publisher()->create_datawriter(topic, qos, this, fdds::StatusMask::publication_matched())) {}
+    ~Writer() override {
+        if (writer_) participant_.publisher()->delete_datawriter(writer_);
+    }
+    Writer(const Writer&) = delete;
+    Writer& operator=(const Writer&) = delete;
+
+    bool ok() const { return writer_ != nullptr; }
+    bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
+    bool dispose(const T& sample) {
+        return writer_->dispose(const_cast<T*>(&sample), fdds::HANDLE_NIL) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    }
+    int matched() const { return matched_.load(); }
+    /// Readers matched since the last call (a late joiner to serve).
+    int take_new_matches() { return new_matches_.exchange(0); }
+    void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& status) override {
+        matched_.store(status.current_count);
+        if (status.current_count_change > 0) new_matches_.fetch_add(status.current_count_change);
+    }
+    fdds::DataWriter* raw() { return writer_; }
+
+private:
+    Participant& participant_;
+    fdds::DataWriter* writer_;
+    std::atomic<int> matched_{0};
+    std::atomic<int> new_matches_{0};
+};
+
+/// A typed data reader that reports to an inbox.
+template <class T>
+class Reader {
+public:
+    Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos, Inbox* inbox)
+        : participant_(participant),
+          reader_(participant.subscriber()->create_datareader(
+              topic, qos, inbox, inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
+                                       : fdds::StatusMask::none())) {}
+    ~Reader() {
+        if (reader_) participant_.subscriber()->delete_datareader(reader_);
+    }
+    Reader(const Reader&) = delete;
+    Reader& operator=(const Reader&) = delete;
+
+    bool ok() const { return reader_ != nullptr; }
+    /// Takes every available sample and calls each(sample, info) for those with valid data (a disposed
+    /// instance is passed with info.valid_data false). Returns how many were taken.
+    template <class F>
+    int take_all(F&& each) {
+        int count = 0;
+        T sample;
+        fdds::SampleInfo info;
+        while (reader_->take_next_sample(&sample, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+            each(sample, info);
+            ++count;
+        }
+        return count;
+    }
+    fdds::DataReader* raw() { return reader_; }
+
+private:
+    Participant& participant_;
+    fdds::DataReader* reader_;
+};
+
+}  // namespace lpss::dds
