@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Runs lpss-bench sub-commands into docs/results/ and assembles docs/results.md from
 # docs/results.template.md, where {{NAME}} stands for the markdown NAME's run produced.
-# usage: deploy/run-bench.sh [SUBCOMMAND ...]   (default: all). Takes a quiet machine and ~15 minutes.
+# usage: deploy/run-bench.sh [SUBCOMMAND ...]   (default: all; --assemble: only rebuild docs/results.md).
+# Takes a quiet machine and about 25 minutes.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
 out="$root/docs/results"
 subs=("$@")
-((${#subs[@]})) || subs=(precision pareto instances overhead stacks scaling stability)
+if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability); fi
 for sub in "${subs[@]}"; do
     echo "lpss: lpss-bench $sub"
     (cd "$root" && build/lpss-bench --out docs/results "$sub" >/dev/null)
