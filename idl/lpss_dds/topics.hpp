@@ -1,0 +1,35 @@
+// The lpss topics: names, and the QoS of their writers and readers, in one place (docs/protocol.md has
+// the same as a table).
+#pragma once
+
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+namespace lpss::dds {
+
+inline constexpr const char* kSectorFrames = "lpss/sector_frames";
+inline constexpr const char* kBodyDescriptions = "lpss/body_descriptions";
+inline constexpr const char* kSectorOwners = "lpss/sector_owners";
+inline constexpr const char* kWorkerFrames = "lpss/worker_frames";
+inline constexpr const char* kFrameGo = "lpss/frame_go";
+inline constexpr const char* kCommands = "lpss/commands";
+inline constexpr const char* kCommandResults = "lpss/command_results";
+
+/// How a topic is delivered.
+struct Delivery {
+    bool durable = false;  ///< TRANSIENT_LOCAL: a late joiner gets the last sample of every instance
+    int depth = 1;         ///< KEEP_LAST depth per instance
+};
+
+/// Sector frames, body descriptions, owners: durable, the latest sample per instance.
+inline constexpr Delivery kStateDelivery{true, 1};
+/// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
+/// not lose a frame's marker to the next one.
+inline constexpr Delivery kFrameDelivery{true, 8};
+/// Commands and results: volatile, deep enough for bursts.
+inline constexpr Delivery kCommandDelivery{false, 256};
+
+eprosima::fastdds::dds::DataWriterQos writer_qos(const Delivery& delivery);
+eprosima::fastdds::dds::DataReaderQos reader_qos(const Delivery& delivery);
+
+}  // namespace lpss::dds

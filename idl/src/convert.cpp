@@ -1,0 +1,144 @@
+#include "lpss_dds/convert.hpp"
+
+namespace lpss::dds {
+namespace {
+
+wire::Vec3f to_wire_f(const Eigen::Vector3d& v) {
+    wire::Vec3f out;
+    out.x(static_cast<float>(v.x()));
+    out.y(static_cast<float>(v.y()));
+    out.z(static_cast<float>(v.z()));
+    return out;
+}
+
+Eigen::Vector3d from_wire_f(const wire::Vec3f& v) { return {v.x(), v.y(), v.z()}; }
+
+wire::Quatf to_wire_q(const Eigen::Quaterniond& q) {
+    wire::Quatf out;
+    out.x(static_cast<float>(q.x()));
+    out.y(static_cast<float>(q.y()));
+    out.z(static_cast<float>(q.z()));
+    out.w(static_cast<float>(q.w()));
+    return out;
+}
+
+Eigen::Quaterniond from_wire_q(const wire::Quatf& q) { return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()); }
+
+}  // namespace
+
+wire::SectorKey to_wire(const SectorKey& key) {
+    wire::SectorKey out;
+    out.i(key.i);
+    out.j(key.j);
+    out.k(key.k);
+    return out;
+}
+
+SectorKey from_wire(const wire::SectorKey& key) { return {key.i(), key.j(), key.k()}; }
+
+wire::Vec3d to_wire(const Eigen::Vector3d& v) {
+    wire::Vec3d out;
+    out.x(v.x());
+    out.y(v.y());
+    out.z(v.z());
+    return out;
+}
+
+Eigen::Vector3d from_wire(const wire::Vec3d& v) { return {v.x(), v.y(), v.z()}; }
+
+wire::BodyState to_wire(const BodySnapshot& body) {
+    wire::BodyState out;
+    out.id(body.id);
+    out.position(to_wire_f(body.position.local));
+    out.orientation(to_wire_q(body.orientation));
+    out.linear_velocity(to_wire_f(body.linear_velocity));
+    out.angular_velocity(to_wire_f(body.angular_velocity));
+    out.flags(body.awake ? 1u : 0u);
+    return out;
+}
+
+BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
+    BodySnapshot out;
+    out.id = state.id();
+    out.position = SectorPosition{sector, from_wire_f(state.position())};
+    out.orientation = from_wire_q(state.orientation());
+    out.linear_velocity = from_wire_f(state.linear_velocity());
+    out.angular_velocity = from_wire_f(state.angular_velocity());
+    out.awake = (state.flags() & 1u) != 0;
+    return out;
+}
+
+wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, std::uint32_t owner) {
+    wire::BodyDescription d;
+    d.id(body.id);
+    d.name(body.name);
+    std::vector<wire::Vec3d> points;
+    if (const auto* s = std::get_if<Sphere>(&body.shape)) {
+        d.shape(0);
+        d.size(to_wire(Eigen::Vector3d(s->radius, 0, 0)));
+    } else if (const auto* b = std::get_if<Box>(&body.shape)) {
+        d.shape(1);
+        d.size(to_wire(b->half_extents));
+    } else if (const auto* c = std::get_if<Capsule>(&body.shape)) {
+        d.shape(2);
+        d.size(to_wire(Eigen::Vector3d(c->radius, c->height, 0)));
+    } else if (const auto* h = std::get_if<ConvexHull>(&body.shape)) {
+        d.shape(3);
+        for (const Eigen::Vector3d& p : h->points) points.push_back(to_wire(p));
+    } else if (const auto* p = std::get_if<Plane>(&body.shape)) {
+        d.shape(4);
+        d.size(to_wire(p->normal));
+        d.plane_offset(p->offset);
+    }
+    d.hull_points(points);
+    d.mass(body.mass);
+    d.friction(body.material.friction);
+    d.restitution(body.material.restitution);
+    d.ccd(body.ccd);
+    d.sector(to_wire(state.position.sector));
+    d.offset(to_wire(state.position.local));
+    d.orientation(to_wire_q(state.orientation));
+    d.linear_velocity(to_wire(state.linear_velocity));
+    d.angular_velocity(to_wire(state.angular_velocity));
+    d.owner(owner);
+    return d;
+}
+
+BodyDesc from_wire(const wire::BodyDescription& d) {
+    BodyDesc body;
+    body.id = d.id();
+    body.name = d.name();
+    const Eigen::Vector3d size = from_wire(d.size());
+    switch (d.shape()) {
+        case 0:
+            body.shape = Sphere{size.x()};
+            break;
+        case 1:
+            body.shape = Box{size};
+            break;
+        case 2:
+            body.shape = Capsule{size.x(), size.y()};
+            break;
+        case 3: {
+            ConvexHull hull;
+            for (const wire::Vec3d& p : d.hull_points()) hull.points.push_back(from_wire(p));
+            body.shape = hull;
+            break;
+        }
+        case 4:
+            body.shape = Plane{size, d.plane_offset()};
+            break;
+        default:
+            body.shape = Sphere{0.0};  // refused by validation
+    }
+    body.mass = d.mass();
+    body.material = Material{d.friction(), d.restitution()};
+    body.ccd = d.ccd();
+    body.position = SectorPosition{from_wire(d.sector()), from_wire(d.offset())};
+    body.orientation = from_wire_q(d.orientation());
+    body.linear_velocity = from_wire(d.linear_velocity());
+    body.angular_velocity = from_wire(d.angular_velocity());
+    return body;
+}
+
+}  // namespace lpss::dds

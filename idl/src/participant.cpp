@@ -1,0 +1,151 @@
+#include "lpss_dds/participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/topic/ContentFilteredTopic.hpp>
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "lpss_dds/region_filter.hpp"
+#include "lpss_dds/topics.hpp"
+
+namespace lpss::dds {
+
+extern const char* const kDefaultProfileXml;
+
+namespace {
+
+using ReturnCode = eprosima::fastrtps::types::ReturnCode_t;
+
+/// Fast DDS keeps profiles in a process-wide factory: load lpss's (or the user's) once.
+Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_file) {
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    static std::string loaded;
+    static bool loaded_ok = false;
+    const std::string wanted = profile_file.empty() ? std::string("<built-in>") : profile_file;
+    if (!loaded_ok || loaded != wanted) {
+        ReturnCode rc;
+        if (profile_file.empty()) {
+            rc = factory->load_XML_profiles_string(kDefaultProfileXml, std::strlen(kDefaultProfileXml));
+        } else {
+            if (!std::ifstream(profile_file)) return Error{"cannot read the DDS profile " + profile_file};
+            rc = factory->load_XML_profiles_file(profile_file);
+        }
+        if (rc != ReturnCode::RETCODE_OK) {
+            return Error{"the DDS profile " + wanted + " could not be loaded (is it Fast DDS profile XML?)"};
+        }
+        loaded = wanted;
+        loaded_ok = true;
+    }
+    // The profile marked is_default_profile="true" is the default participant QoS once loaded.
+    fdds::DomainParticipantQos qos;
+    factory->get_default_participant_qos(qos);
+    return qos;
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std::string& profile_file,
+                                                           const std::string& name) {
+    if (domain < 0 || domain > 232) return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
+    Expected<fdds::DomainParticipantQos> qos = participant_qos(profile_file);
+    if (!qos) return qos.error();
+    qos->name(name);
+    std::unique_ptr<Participant> p(new Participant());
+    p->domain_ = domain;
+    p->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos.value());
+    if (p->participant_ == nullptr) return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
+    p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    p->region_factory_ = std::make_unique<RegionFilterFactory>();
+    p->participant_->register_content_filter_factory(kRegionFilterClass, p->region_factory_.get());
+    if (p->publisher_ == nullptr || p->subscriber_ == nullptr) return Error{"cannot create DDS publisher/subscriber"};
+    return p;
+}
+
+Participant::~Participant() {
+    if (participant_ == nullptr) return;
+    // Readers and writers belong to their RAII owners, which must be gone by now; what is left here is
+    // ours: filtered topics, topics, publisher, subscriber, then the participant itself.
+    for (auto& [name, topic] : filtered_) {
+        participant_->delete_contentfilteredtopic(static_cast<fdds::ContentFilteredTopic*>(topic));
+    }
+    for (auto& [name, topic] : topics_) participant_->delete_topic(topic);
+    if (publisher_) participant_->delete_publisher(publisher_);
+    if (subscriber_) participant_->delete_subscriber(subscriber_);
+    participant_->unregister_content_filter_factory(kRegionFilterClass);
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic* Participant::topic(const std::string& name, fdds::TypeSupport& type) {
+    auto it = topics_.find(name);
+    if (it != topics_.end()) return it->second;
+    type.register_type(participant_);
+    fdds::Topic* topic = participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    topics_.emplace(name, topic);
+    return topic;
+}
+
+fdds::TopicDescription* Participant::sector_region(const std::string& frames_topic, const std::int64_t lo[3],
+                                                   const std::int64_t hi[3]) {
+    auto it = topics_.find(frames_topic);
+    if (it == topics_.end()) return nullptr;
+    std::vector<std::string> parameters;
+    for (int a = 0; a < 3; ++a) {
+        parameters.push_back(std::to_string(lo[a]));
+        parameters.push_back(std::to_string(hi[a]));
+    }
+    const std::string name = frames_topic + "/region" + std::to_string(next_filter_++);
+    fdds::ContentFilteredTopic* filtered =
+        participant_->create_contentfilteredtopic(name, it->second, "region", parameters, kRegionFilterClass);
+    if (filtered) filtered_.emplace(name, filtered);
+    return filtered;
+}
+
+void Inbox::on_data_available(fdds::DataReader*) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        pending_ = true;
+    }
+    cv_.notify_all();
+}
+
+void Inbox::on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& status) {
+    matched_.fetch_add(status.current_count_change);
+    on_data_available(nullptr);
+}
+
+bool Inbox::wait(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool got = cv_.wait_for(lock, timeout, [this] { return pending_; });
+    pending_ = false;
+    return got;
+}
+
+void Inbox::poke() { on_data_available(nullptr); }
+
+// ---- QoS
+
+fdds::DataWriterQos writer_qos(const Delivery& d) {
+    fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
+    q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+    q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    q.history().depth = d.depth;
+    // Samples grow with the bodies of a sector: reallocate instead of preallocating the largest.
+    q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+    return q;
+}
+
+fdds::DataReaderQos reader_qos(const Delivery& d) {
+    fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
+    q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+    q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    q.history().depth = d.depth;
+    q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+    return q;
+}
+
+}  // namespace lpss::dds

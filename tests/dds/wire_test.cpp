@@ -1,0 +1,112 @@
+// The wire layer: the built-in local profile lets participants find each other, samples keep their
+// keys and floats, a late joiner gets durable samples, and a region filter keeps only its sectors.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+
+namespace lpss::dds {
+namespace {
+
+// A domain of this test's own, so that suites can run side by side.
+constexpr int kDomain = 171;
+
+wire::SectorFrame frame_of(const SectorKey& key, std::uint64_t frame, BodyId id) {
+    wire::SectorFrame f;
+    f.sector(to_wire(key));
+    f.frame(frame);
+    f.complete(true);
+    BodySnapshot b;
+    b.id = id;
+    b.position = SectorPosition{key, Eigen::Vector3d(1.5, -2.25, 63.75)};
+    b.linear_velocity = Eigen::Vector3d(1, 2, 3);
+    b.awake = true;
+    f.bodies().push_back(to_wire(b));
+    return f;
+}
+
+template <class Pred>
+bool eventually(Pred pred, std::chrono::milliseconds limit = std::chrono::seconds(10)) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end) {
+        if (pred()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return pred();
+}
+
+TEST(Wire, LateJoinerAndRegionFilter) {
+    auto pub = Participant::create(kDomain, "", "wire-test-pub");
+    ASSERT_TRUE(pub.ok()) << pub.error().message;
+    Writer<wire::SectorFrame> writer(**pub, (*pub)->topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                     writer_qos(kStateDelivery));
+    ASSERT_TRUE(writer.ok());
+    const SectorKey far{(std::int64_t{1} << 61) + 3, -7, 0};
+    ASSERT_TRUE(writer.write(frame_of({0, 0, 0}, 5, 1)));
+    ASSERT_TRUE(writer.write(frame_of(far, 5, 2)));
+    ASSERT_TRUE(writer.write(frame_of({1, 0, 0}, 5, 3)));
+
+    // Joins after the samples were written: gets the last sample of each sector.
+    auto sub = Participant::create(kDomain, "", "wire-test-sub");
+    ASSERT_TRUE(sub.ok());
+    Inbox inbox;
+    fdds::Topic* topic = (*sub)->topic<wire::SectorFramePubSubType>(kSectorFrames);
+    Reader<wire::SectorFrame> all(**sub, topic, reader_qos(kStateDelivery), &inbox);
+    const std::int64_t lo[3] = {0, -100, -5}, hi[3] = {0, 100, 5};
+    Reader<wire::SectorFrame> region(**sub, (*sub)->sector_region(kSectorFrames, lo, hi),
+                                     reader_qos(kStateDelivery), &inbox);
+    ASSERT_TRUE(all.ok());
+    ASSERT_TRUE(region.ok());
+
+    std::map<BodyId, BodySnapshot> seen;
+    std::vector<BodyId> in_region;
+    ASSERT_TRUE(eventually([&] {
+        all.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
+            if (!info.valid_data) return;
+            for (const auto& b : f.bodies()) seen[b.id()] = from_wire(b, from_wire(f.sector()));
+        });
+        region.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
+            if (info.valid_data) in_region.push_back(f.bodies().front().id());
+        });
+        return seen.size() == 3 && !in_region.empty();
+    }));
+    EXPECT_EQ(seen.at(2).position.sector, far) << "keys are exact at any index";
+    EXPECT_EQ(seen.at(2).position.local, Eigen::Vector3d(1.5, -2.25, 63.75));
+    EXPECT_EQ(seen.at(3).linear_velocity, Eigen::Vector3d(1, 2, 3));
+    EXPECT_TRUE(seen.at(1).awake);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    region.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
+        if (info.valid_data) in_region.push_back(f.bodies().front().id());
+    });
+    EXPECT_EQ(in_region, std::vector<BodyId>{1}) << "only sector (0,0,0) lies in the region";
+}
+
+TEST(Wire, BodyDescriptionsRoundTrip) {
+    BodyDesc box;
+    box.id = 42;
+    box.name = "crate";
+    box.shape = Box{{1, 2, 3}};
+    box.mass = 5;
+    box.material = Material{0.3, 0.1};
+    BodySnapshot at;
+    at.position = SectorPosition{{1, 2, 3}, {4, 5, 6}};
+    BodyDesc back = from_wire(describe(box, at, 7));
+    EXPECT_EQ(back.id, 42u);
+    EXPECT_EQ(back.name, "crate");
+    EXPECT_EQ(std::get<Box>(back.shape).half_extents, Eigen::Vector3d(1, 2, 3));
+    EXPECT_EQ(std::get<SectorPosition>(back.position).sector, (SectorKey{1, 2, 3}));
+    EXPECT_EQ(back.material.friction, 0.3);
+}
+
+TEST(Wire, UnreadableProfileIsRefused) {
+    auto p = Participant::create(kDomain, "/nonexistent/profile.xml", "x");
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("cannot read the DDS profile"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lpss::dds
