@@ -49,22 +49,35 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         }
     }
     requirements.clear();
-    if (options.monolithic || step_set.empty()) return;
-
-    // ...and those that receive a clone of an awake body: the sectors of its dynamic partners.
-    const std::size_t awake_sectors = step_set.size();
-    for (std::size_t n = 0; n < awake_sectors; ++n) {
-        for (std::uint32_t slot : step_set[n]->originals) {
+    if (options.monolithic) return;
+    if (step_set.empty()) {
+        bool awake_ghost = false;
+        for (std::uint32_t slot : candidates) {
             const BodyRecord& rec = record(slot);
-            if (rec.partners.empty() || !rec.dynamic || !rec.rb->isActive()) continue;
-            for (std::uint32_t other : rec.partners) {
-                Sector* target = record(other).sector;
-                if (record(other).dynamic && !target->stepping && reaches_meet(slot, other)) {
-                    target->stepping = true;
-                    step_set.push_back(target);
-                }
+            awake_ghost = awake_ghost || (rec.alive && rec.dynamic && rec.sector->remote && rec.rb->isActive());
+        }
+        if (!awake_ghost) return;
+    }
+
+    // ...and those that receive a clone of an awake body: the sectors of its dynamic partners. Awake
+    // ghosts (moved by set_state this frame) count too: their copies may push this process's bodies.
+    auto extend_from = [&](std::uint32_t slot) {
+        const BodyRecord& rec = record(slot);
+        if (rec.partners.empty() || !rec.dynamic || !rec.rb->isActive()) return;
+        for (std::uint32_t other : rec.partners) {
+            Sector* target = record(other).sector;
+            if (record(other).dynamic && !target->stepping && !target->remote && reaches_meet(slot, other)) {
+                target->stepping = true;
+                step_set.push_back(target);
             }
         }
+    };
+    const std::size_t awake_sectors = step_set.size();
+    for (std::size_t n = 0; n < awake_sectors; ++n) {
+        for (std::uint32_t slot : step_set[n]->originals) extend_from(slot);
+    }
+    for (std::uint32_t slot : candidates) {
+        if (record(slot).alive && !record(slot).plane && record(slot).sector->remote) extend_from(slot);
     }
 
     // Every dynamic body of a stepped sector needs its partners there.

@@ -72,7 +72,8 @@ public:
     /// The most any original's fat reach box has extended beyond its broadphase box (reach.cpp): the
     /// growth of queries that look for this sector's bodies by fat box.
     double fat_excess = 0.0;
-    bool awake = false;  ///< holds an awake dynamic original
+    bool awake = false;   ///< holds an awake dynamic original
+    bool remote = false;  ///< simulated by another process: holds ghosts, never stepped here
     bool in_awake_list = false;
     bool stepping = false;  ///< in this frame's set of sectors to step
 };

@@ -133,6 +133,7 @@ Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& fir
                       : std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
                                                  solvers[0].get(), gravity, settings.solver_iterations);
     Sector& s = *sector;
+    s.remote = !owns(key);
     sectors.emplace(key, std::move(sector));
     for (std::uint32_t slot : planes)
         add_plane_instance(slot, s);
@@ -166,6 +167,7 @@ void World::Impl::destroy_sector(Sector& sector) {
 }
 
 void World::Impl::wake(Sector& sector) {
+    if (sector.remote) return;  // another process steps it
     sector.awake = true;
     if (!sector.in_awake_list) {
         sector.in_awake_list = true;
@@ -383,6 +385,7 @@ Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eig
         return Error{describe_body(*rec.desc) + ": impulse and offset must be finite"};
     }
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and takes no impulse"};
+    if (rec.sector->remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
     rec.rb->activate(true);
     rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
     w.wake(*rec.sector);
@@ -399,12 +402,111 @@ Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen
         return Error{describe_body(*rec.desc) + ": velocities must be finite"};
     }
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and has no velocity"};
+    if (rec.sector->remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
     rec.rb->activate(true);
     rec.rb->setLinearVelocity(to_bt(linear));
     rec.rb->setAngularVelocity(to_bt(angular));
     w.wake(*rec.sector);
     w.dirty.push_back(found.value());
     return {};
+}
+
+Status World::set_state(const BodySnapshot& state) {
+    Impl& w = *impl_;
+    Expected<std::uint32_t> found = w.slot_of(state.id);
+    if (!found) return found.error();
+    const std::uint32_t slot = found.value();
+    BodyRecord& rec = w.record(slot);
+    if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and cannot be moved"};
+    if (!state.position.local.allFinite() || !in_range(state.position.sector) || !state.orientation.coeffs().allFinite() ||
+        state.orientation.norm() < 1e-9 || !state.linear_velocity.allFinite() || !state.angular_velocity.allFinite()) {
+        return Error{describe_body(*rec.desc) + ": state is not finite"};
+    }
+    Expected<SectorPosition> at = w.grid.canonical(state.position);
+    if (!at) return Error{describe_body(*rec.desc) + ": " + at.error().message};
+    w.place_body(slot, at.value(), state.orientation.normalized());
+    btRigidBody& rb = *rec.rb;
+    rb.setLinearVelocity(to_bt(state.linear_velocity));
+    rb.setAngularVelocity(to_bt(state.angular_velocity));
+    if (state.awake) {
+        rb.activate(true);
+        w.wake(*rec.sector);
+    } else if (rb.getActivationState() != DISABLE_DEACTIVATION) {
+        rb.forceActivationState(ISLAND_SLEEPING);
+    }
+    w.dirty.push_back(slot);
+    return {};
+}
+
+void World::Impl::place_body(std::uint32_t slot, const SectorPosition& at, const Eigen::Quaterniond& orientation) {
+    BodyRecord& rec = record(slot);
+    if (at.sector != rec.sector->key) move_body(slot, at);
+    Sector& sector = *rec.sector;
+    rec.local = precise_positions ? at.local : sector.from_physics(sector.to_physics(at.local));
+    btRigidBody& rb = *rec.rb;
+    rb.setWorldTransform(btTransform(to_bt(orientation), sector.to_physics(at.local)));
+    rb.setInterpolationWorldTransform(rb.getWorldTransform());
+    if (rb.getBroadphaseHandle() != nullptr) sector.world.updateSingleAabb(&rb);
+}
+
+void World::set_ownership(std::function<bool(const SectorKey&)> owns) {
+    Impl& w = *impl_;
+    w.options.owns = std::move(owns);
+    for (auto& [key, sector] : w.sectors) {
+        const bool remote = !w.owns(key);
+        if (remote == sector->remote) continue;
+        sector->remote = remote;
+        if (remote) {
+            // Its bodies become ghosts: nothing here steps them any more.
+            sector->awake = false;
+            erase_value(w.awake_list, sector.get());
+            sector->in_awake_list = false;
+        } else {
+            for (std::uint32_t slot : sector->originals) {
+                if (w.record(slot).dynamic && w.record(slot).rb->isActive()) w.wake(*sector);
+            }
+        }
+        for (std::uint32_t slot : sector->originals) w.dirty.push_back(slot);
+    }
+}
+
+bool World::is_ghost(BodyId id) const {
+    Expected<std::uint32_t> slot = impl_->slot_of(id);
+    return slot && !impl_->record(slot.value()).plane && impl_->record(slot.value()).sector->remote;
+}
+
+std::vector<Departure> World::departures() const {
+    const Impl& w = *impl_;
+    std::vector<Departure> out;
+    for (const auto& [key, sector] : w.sectors) {
+        if (sector->remote) continue;
+        for (std::uint32_t slot : sector->originals) {
+            const BodyRecord& rec = w.record(slot);
+            if (!rec.dynamic || rec.local.cwiseAbs().maxCoeff() < w.band) continue;
+            Expected<SectorPosition> to = w.grid.canonical(SectorPosition{key, rec.local});
+            if (to && !w.owns(to->sector)) out.push_back(Departure{rec.id, to.value()});
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });
+    return out;
+}
+
+std::vector<BodySnapshot> World::sector_bodies(const SectorKey& key) const {
+    std::vector<BodySnapshot> out;
+    const Sector* sector = impl_->find_sector(key);
+    if (sector == nullptr) return out;
+    out.reserve(sector->originals.size());
+    for (std::uint32_t slot : sector->originals) out.push_back(impl_->snapshot_of(impl_->record(slot)));
+    std::sort(out.begin(), out.end(), [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
+    return out;
+}
+
+std::vector<SectorKey> World::stepped_sectors() const {
+    std::vector<SectorKey> out;
+    out.reserve(impl_->step_set.size());
+    for (const Sector* s : impl_->step_set) out.push_back(s->key);
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 // ---------------------------------------------------------------------------------------------------

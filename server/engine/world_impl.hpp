@@ -55,6 +55,8 @@ struct World::Impl {
     void insert_body(const BodyDesc& body);
     void move_body(std::uint32_t slot, const SectorPosition& to);
     Expected<std::uint32_t> slot_of(BodyId id) const;
+    bool owns(const SectorKey& key) const { return !options.owns || options.owns(key); }
+    void place_body(std::uint32_t slot, const SectorPosition& at, const Eigen::Quaterniond& orientation);
     BodySnapshot snapshot_of(const engine::BodyRecord& record) const;
     void add_plane_instance(std::uint32_t slot, engine::Sector& sector);
 

@@ -55,7 +55,9 @@ TEST(World, RefusesBadSettings) {
     s = WorldSettings{};
     s.dt = std::nan("");
     EXPECT_FALSE(World::create(s).ok());
-    EXPECT_FALSE(World::create(WorldSettings{}, EngineOptions{0}).ok());
+    EngineOptions no_threads;
+    no_threads.threads = 0;
+    EXPECT_FALSE(World::create(WorldSettings{}, no_threads).ok());
 }
 
 TEST(World, BadBodiesAreRefusedAndTheWorldIsUnchanged) {

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -40,6 +41,17 @@ struct EngineOptions {
     /// own (its own default collision configuration and solver, all boxes refreshed every step) and
     /// every sector is stepped every frame, as one would without lpss's sharing and sleeping rules.
     bool naive_sector_worlds = false;
+    /// Which sectors this engine simulates (every sector when empty). A body in a sector it does not own
+    /// is a *ghost*: a copy of a body another process simulates, kept so that it can be cloned across
+    /// the border; set_state moves it. An owned body whose centre crosses into a sector not owned stays
+    /// where it is and is listed by departures() until it is removed (handed off).
+    std::function<bool(const SectorKey&)> owns;
+};
+
+/// An owned body that has crossed into a sector this engine does not own.
+struct Departure {
+    BodyId id = 0;
+    SectorPosition to;  ///< its position in the sector it entered
 };
 
 /// Two bodies started or stopped touching. Reported with the ids of the bodies the user created,
@@ -100,6 +112,12 @@ public:
                          const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
     /// Sets a dynamic body's velocities; wakes it.
     Status set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
+    /// Moves a body to a state (position, orientation, velocities, awake): how ghosts follow the bodies
+    /// they copy. Refused for a static body or a non-finite state.
+    Status set_state(const BodySnapshot& state);
+    /// Changes which sectors this engine simulates: bodies of sectors no longer owned become ghosts,
+    /// ghosts of sectors now owned become bodies it simulates.
+    void set_ownership(std::function<bool(const SectorKey&)> owns);
 
     /// Advances the world by one frame of settings().dt.
     void step();
@@ -114,6 +132,14 @@ public:
     std::vector<BodySnapshot> snapshot() const;
     /// The description the body was created from, or nothing for an unknown id.
     std::optional<BodyDesc> description(BodyId id) const;
+    /// Whether a body is a ghost (in a sector this engine does not own).
+    bool is_ghost(BodyId id) const;
+    /// Owned bodies that have crossed into sectors this engine does not own, ordered by id.
+    std::vector<Departure> departures() const;
+    /// The bodies a sector owns (not clones, not planes), ordered by id.
+    std::vector<BodySnapshot> sector_bodies(const SectorKey& key) const;
+    /// Sectors stepped in the last frame, in key order.
+    std::vector<SectorKey> stepped_sectors() const;
 
     /// Contacts that began or ended during the last step, ordered by kind and ids.
     const std::vector<ContactEvent>& contact_events() const;
