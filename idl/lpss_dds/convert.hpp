@@ -2,7 +2,9 @@
 #pragma once
 
 #include "lpss.h"
+#include "lpss/common/assignment.hpp"
 #include "lpss/common/body_desc.hpp"
+#include "lpss/common/world_settings.hpp"
 #include "lpss/common/body_snapshot.hpp"
 #include "lpss/common/sector_key.hpp"
 
@@ -22,5 +24,13 @@ BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector);
 wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, std::uint32_t owner);
 /// The description read back as a BodyDesc placed by sector (not validated: validate before use).
 BodyDesc from_wire(const wire::BodyDescription& description);
+
+wire::WorldSettings to_wire(const WorldSettings& settings);
+WorldSettings from_wire(const wire::WorldSettings& settings);
+wire::MortonCode to_wire(const MortonCode& code);
+MortonCode from_wire(const wire::MortonCode& code);
+/// The assignment with the world's settings it applies to.
+wire::Assignment to_wire(const SectorAssignment& assignment, const WorldSettings& settings);
+SectorAssignment from_wire(const wire::Assignment& assignment);
 
 }  // namespace lpss::dds

@@ -21,8 +21,14 @@ struct Delivery {
     int depth = 1;         ///< KEEP_LAST depth per instance
 };
 
-/// Sector frames, body descriptions, owners: durable, the latest sample per instance.
+/// Body descriptions and assignments: durable, the latest sample per instance.
 inline constexpr Delivery kStateDelivery{true, 1};
+/// Sector frames: durable, the last two frames per sector, so that a worker one frame behind another
+/// still receives the frame it needs before the next replaces it; readers keep a few more.
+inline constexpr Delivery kSectorFrameDelivery{true, 2};
+inline constexpr Delivery kSectorFrameReading{true, 8};
+/// Body descriptions as read: every instance's latest.
+inline constexpr Delivery kDescriptionReading{true, 1};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};

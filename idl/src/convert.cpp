@@ -97,7 +97,12 @@ wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, 
     d.ccd(body.ccd);
     d.sector(to_wire(state.position.sector));
     d.offset(to_wire(state.position.local));
-    d.orientation(to_wire_q(state.orientation));
+    wire::Quatd q;
+    q.x(state.orientation.x());
+    q.y(state.orientation.y());
+    q.z(state.orientation.z());
+    q.w(state.orientation.w());
+    d.orientation(q);
     d.linear_velocity(to_wire(state.linear_velocity));
     d.angular_velocity(to_wire(state.angular_velocity));
     d.owner(owner);
@@ -135,10 +140,71 @@ BodyDesc from_wire(const wire::BodyDescription& d) {
     body.material = Material{d.friction(), d.restitution()};
     body.ccd = d.ccd();
     body.position = SectorPosition{from_wire(d.sector()), from_wire(d.offset())};
-    body.orientation = from_wire_q(d.orientation());
+    body.orientation = Eigen::Quaterniond(d.orientation().w(), d.orientation().x(), d.orientation().y(),
+                                          d.orientation().z());
     body.linear_velocity = from_wire(d.linear_velocity());
     body.angular_velocity = from_wire(d.angular_velocity());
     return body;
+}
+
+wire::WorldSettings to_wire(const WorldSettings& s) {
+    wire::WorldSettings out;
+    out.sector_size(s.sector_size);
+    out.dt(s.dt);
+    out.precision_radius(s.precision_radius);
+    out.gravity(to_wire(s.gravity));
+    out.hysteresis(s.hysteresis);
+    out.sleeping(s.sleeping);
+    out.substeps(s.substeps);
+    out.solver_iterations(s.solver_iterations);
+    return out;
+}
+
+WorldSettings from_wire(const wire::WorldSettings& s) {
+    WorldSettings out;
+    out.sector_size = s.sector_size();
+    out.dt = s.dt();
+    out.precision_radius = s.precision_radius();
+    out.gravity = from_wire(s.gravity());
+    out.hysteresis = s.hysteresis();
+    out.sleeping = s.sleeping();
+    out.substeps = s.substeps();
+    out.solver_iterations = s.solver_iterations();
+    return out;
+}
+
+wire::MortonCode to_wire(const MortonCode& code) {
+    wire::MortonCode out;
+    out.high(code.high);
+    out.middle(code.middle);
+    out.low(code.low);
+    return out;
+}
+
+MortonCode from_wire(const wire::MortonCode& code) { return {code.high(), code.middle(), code.low()}; }
+
+wire::Assignment to_wire(const SectorAssignment& a, const WorldSettings& settings) {
+    wire::Assignment out;
+    out.coordinator(1);
+    out.epoch(a.epoch);
+    out.from_frame(a.from_frame);
+    out.settings(to_wire(settings));
+    out.block_size(static_cast<std::int32_t>(a.block_size));
+    out.workers(a.workers);
+    std::vector<wire::MortonCode> starts;
+    for (const MortonCode& c : a.starts) starts.push_back(to_wire(c));
+    out.starts(starts);
+    return out;
+}
+
+SectorAssignment from_wire(const wire::Assignment& a) {
+    SectorAssignment out;
+    out.epoch = a.epoch();
+    out.from_frame = a.from_frame();
+    out.block_size = a.block_size();
+    out.workers = a.workers();
+    for (const wire::MortonCode& c : a.starts()) out.starts.push_back(from_wire(c));
+    return out;
 }
 
 }  // namespace lpss::dds

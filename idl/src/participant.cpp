@@ -129,6 +129,10 @@ void Inbox::poke() { on_data_available(nullptr); }
 
 fdds::DataWriterQos writer_qos(const Delivery& d) {
     fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
+    // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
+    q.resource_limits().max_instances = 0;  // 0: unlimited
+    q.resource_limits().max_samples = 0;
+    q.resource_limits().max_samples_per_instance = 0;
     q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -140,6 +144,10 @@ fdds::DataWriterQos writer_qos(const Delivery& d) {
 
 fdds::DataReaderQos reader_qos(const Delivery& d) {
     fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
+    // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
+    q.resource_limits().max_instances = 0;  // 0: unlimited
+    q.resource_limits().max_samples = 0;
+    q.resource_limits().max_samples_per_instance = 0;
     q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;

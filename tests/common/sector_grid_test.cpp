@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace lpss {
 namespace {
@@ -138,6 +139,38 @@ TEST(PrecisionBound, LargestSectorForARadius) {
     Status refused = check_sector_size(400.0, 1000.0);
     ASSERT_FALSE(refused.ok());
     EXPECT_NE(refused.error().message.find("384.9"), std::string::npos) << refused.error().message;
+}
+
+}  // namespace
+}  // namespace lpss
+
+#include "lpss/common/assignment.hpp"
+
+namespace lpss {
+namespace {
+
+TEST(Assignment, EverySectorHasOneOwnerAndRangesAreBalanced) {
+    std::vector<std::pair<SectorKey, double>> loads;
+    for (int i = -20; i < 20; ++i) loads.push_back({{i, 0, 3}, 10.0});
+    SectorAssignment a = SectorAssignment::balanced(loads, {1, 2, 3}, 4);
+    std::map<std::uint32_t, double> load;
+    for (const auto& [sector, l] : loads) load[a.owner_of(sector)] += l;
+    ASSERT_EQ(load.size(), 3u);
+    for (const auto& [worker, l] : load) EXPECT_NEAR(l, 400.0 / 3.0, 45.0) << "worker " << worker;
+    // Sectors nobody uses, anywhere on the grid, still have an owner among the workers.
+    for (SectorKey s : {SectorKey{kMaxSectorIndex, -kMaxSectorIndex, 0}, SectorKey{-5, 99, 1000000}}) {
+        std::uint32_t w = a.owner_of(s);
+        EXPECT_TRUE(w >= 1 && w <= 3);
+    }
+    // Neighbouring sectors of one block share an owner.
+    EXPECT_EQ(a.owner_of({4, 1, 2}), a.owner_of({7, 3, 3}));
+    EXPECT_EQ(block_of({-1, -4, -5}, 4), (SectorKey{-1, -1, -2}));
+}
+
+TEST(Assignment, MortonOrderFollowsSpace) {
+    EXPECT_LT(morton_code({0, 0, 0}), morton_code({1, 0, 0}));
+    EXPECT_LT(morton_code({-1, 0, 0}), morton_code({0, 0, 0}));
+    EXPECT_LT(morton_code({1, 1, 1}), morton_code({2, 0, 0}));
 }
 
 }  // namespace

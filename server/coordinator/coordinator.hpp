@@ -1,0 +1,46 @@
+// The coordinator: loads the scene, assigns sectors to workers (ranges of the Morton curve of blocks,
+// balanced by load, with an epoch), starts every frame, arbitrates handoffs so that every body has
+// exactly one owner in every frame, orders clients' commands, and moves sectors between workers when the
+// load shifts or a worker stops answering.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "lpss/common/expected.hpp"
+
+namespace lpss::coordinator {
+
+struct CoordinatorOptions {
+    std::string scene_path;
+    int domain = 0;
+    std::string profile;  ///< Fast DDS XML profile; empty: the built-in local one
+    std::uint32_t workers = 1;
+    std::uint64_t frames = 0;  ///< stop after this many frames; 0: run until stopped
+    bool realtime = false;     ///< pace frames at the scene's dt; otherwise as fast as the workers go
+    std::int64_t block_size = 4;
+    std::uint64_t rebalance_every = 300;  ///< frames between load checks; 0: never move sectors
+    double rebalance_threshold = 1.5;     ///< move sectors when the busiest worker has this times the mean load
+    std::chrono::milliseconds worker_wait{30000};    ///< for the workers to appear
+    std::chrono::milliseconds worker_timeout{5000};  ///< silence after which a worker is taken as gone
+};
+
+class Coordinator {
+public:
+    /// Loads and validates the scene and joins the domain; refused with the reason.
+    static Expected<std::unique_ptr<Coordinator>> create(const CoordinatorOptions& options);
+    ~Coordinator();
+    /// Runs the cluster until the frames are done or `stop` is set. Returns the process exit code.
+    int run(const std::atomic<bool>& stop);
+
+    struct State;
+
+private:
+    explicit Coordinator(std::unique_ptr<State> state);
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace lpss::coordinator

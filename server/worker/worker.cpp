@@ -1,0 +1,481 @@
+#include "worker.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <optional>
+#include <set>
+#include <thread>
+#include <unordered_map>
+
+#include "lpssPubSubTypes.h"
+#include "lpss/common/assignment.hpp"
+#include "lpss/engine/world.hpp"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+
+namespace lpss::worker {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
+    auto eq3 = [](const wire::Vec3f& x, const wire::Vec3f& y) { return x.x() == y.x() && x.y() == y.y() && x.z() == y.z(); };
+    return eq3(a.position(), b.position()) && eq3(a.linear_velocity(), b.linear_velocity()) &&
+           eq3(a.angular_velocity(), b.angular_velocity()) && a.orientation().x() == b.orientation().x() &&
+           a.orientation().y() == b.orientation().y() && a.orientation().z() == b.orientation().z() &&
+           a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
+}
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+}  // namespace
+
+struct Worker::State {
+    WorkerOptions options;
+    std::unique_ptr<dds::Participant> participant;
+    dds::Inbox inbox;
+    std::unique_ptr<dds::Writer<wire::SectorFrame>> frames_out;
+    std::unique_ptr<dds::Writer<wire::WorkerFrame>> marks_out;
+    std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
+    std::unique_ptr<dds::Reader<wire::SectorFrame>> frames_in;
+    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
+    std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
+    std::unique_ptr<dds::Reader<wire::BodyDescription>> descriptions_in;
+
+    std::optional<World> world;
+    SectorAssignment current;
+    SectorAssignment next;
+    std::uint64_t frame = 0;
+    std::uint32_t degraded = 0;
+
+    // Received and not yet used.
+    std::map<std::uint64_t, wire::FrameGo> gos;
+    std::vector<BodyDesc> early_descriptions;  ///< before the world exists, in arrival order
+    std::deque<wire::SectorFrame> ghost_updates;  ///< other workers' samples, applied frame by frame
+    std::unordered_map<SectorKey, std::uint64_t, SectorKeyHash> latest_sample;  ///< of other workers
+    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks;  ///< (worker, frame)
+
+    // What this worker last told the others.
+    std::unordered_map<BodyId, wire::BodyState> published;
+    std::unordered_map<SectorKey, std::vector<BodyId>, SectorKeyHash> members;
+    std::set<SectorKey> touched;  ///< sectors changed by commands and handoffs this frame
+
+    bool owns(const SectorKey& key) const { return current.owner_of(key) == options.id; }
+    void pump();
+    bool start_world(const wire::FrameGo& go);
+    void apply_go(const wire::FrameGo& go);
+    void apply_command(const wire::Command& command, std::uint64_t order);
+    void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
+    bool border_data_ready(std::uint64_t previous) const;
+    void apply_ghost_updates(std::uint64_t up_to);
+    std::vector<SectorKey> publish(bool full);
+    void mark(const std::vector<SectorKey>& published, double step_ms, double wait_ms);
+};
+
+Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
+
+Worker::~Worker() {
+    // Endpoints go before the participant that made them.
+    if (!state_) return;
+    state_->frames_out.reset();
+    state_->marks_out.reset();
+    state_->results_out.reset();
+    state_->frames_in.reset();
+    state_->marks_in.reset();
+    state_->go_in.reset();
+    state_->descriptions_in.reset();
+}
+
+Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
+    if (options.id == 0) return Error{"worker ids start at 1"};
+    auto state = std::make_unique<State>();
+    state->options = options;
+    Expected<std::unique_ptr<dds::Participant>> participant =
+        dds::Participant::create(options.domain, options.profile, "lpss-worker-" + std::to_string(options.id));
+    if (!participant) return participant.error();
+    state->participant = std::move(participant).value();
+    dds::Participant& p = *state->participant;
+    using namespace dds;
+    state->frames_out = std::make_unique<Writer<wire::SectorFrame>>(p, p.topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                                                    writer_qos(kSectorFrameDelivery));
+    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames),
+                                                                   writer_qos(kFrameDelivery));
+    state->results_out = std::make_unique<Writer<wire::CommandResult>>(
+        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
+    state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(
+        p, p.topic<wire::SectorFramePubSubType>(kSectorFrames), reader_qos(kSectorFrameReading), &state->inbox);
+    state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
+        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
+    state->go_in = std::make_unique<Reader<wire::FrameGo>>(p, p.topic<wire::FrameGoPubSubType>(kFrameGo),
+                                                           reader_qos(kFrameDelivery), &state->inbox);
+    state->descriptions_in = std::make_unique<Reader<wire::BodyDescription>>(
+        p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading), &state->inbox);
+    if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() || !state->frames_in->ok() ||
+        !state->marks_in->ok() || !state->go_in->ok() || !state->descriptions_in->ok()) {
+        return Error{"cannot create the worker's DDS readers and writers"};
+    }
+    return std::unique_ptr<Worker>(new Worker(std::move(state)));
+}
+
+void Worker::State::pump() {
+    go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data && go.frame() > frame) gos[go.frame()] = go;
+    });
+    descriptions_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data) return;  // removals arrive as commands, in order
+        BodyDesc body = dds::from_wire(d);
+        spdlog::debug("worker {}: description of body {}", options.id, body.id);
+        if (!world) {
+            auto same = [&](const BodyDesc& b) { return b.id == body.id; };
+            if (std::find_if(early_descriptions.begin(), early_descriptions.end(), same) == early_descriptions.end()) {
+                early_descriptions.push_back(body);
+            }
+        } else if (!world->contains(body.id)) {
+            // A body that appeared while this worker ran (spawned bodies are added by their command).
+            if (Status st = world->add_body(body); !st) spdlog::warn("worker {}: {}", options.id, st.error().message);
+        }
+    });
+    marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data || m.worker() == options.id) return;
+        std::vector<SectorKey> keys;
+        for (const wire::SectorKey& k : m.published()) keys.push_back(dds::from_wire(k));
+        marks[{m.worker(), m.frame()}] = std::move(keys);
+    });
+    frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data || f.worker() == options.id) return;
+        std::uint64_t& latest = latest_sample[dds::from_wire(f.sector())];
+        latest = std::max(latest, f.frame());
+        ghost_updates.push_back(f);
+    });
+}
+
+bool Worker::State::start_world(const wire::FrameGo& go) {
+    // Every body of the world, owned or ghost, in the order the coordinator described them (the scene's).
+    const auto deadline = Clock::now() + options.coordinator_wait;
+    while (early_descriptions.size() < go.bodies() && Clock::now() < deadline) {
+        inbox.wait(std::chrono::milliseconds(50));
+        pump();
+    }
+    if (early_descriptions.size() < go.bodies()) {
+        spdlog::error("worker {}: only {} of {} body descriptions arrived", options.id, early_descriptions.size(),
+                      go.bodies());
+        return false;
+    }
+    const WorldSettings settings = dds::from_wire(go.next().settings());
+    current = dds::from_wire(go.next());
+    next = current;
+    EngineOptions engine;
+    engine.threads = options.threads;
+    engine.owns = [this](const SectorKey& key) { return owns(key); };
+    Expected<World> created = World::create(settings, engine);
+    if (!created) {
+        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id, created.error().message);
+        return false;
+    }
+    world.emplace(std::move(created).value());
+    if (Status st = world->add_bodies(early_descriptions); !st) {
+        spdlog::error("worker {}: bodies refused: {}", options.id, st.error().message);
+        return false;
+    }
+    early_descriptions.clear();
+    std::size_t ghosts = 0;
+    for (const BodySnapshot& b : world->snapshot()) ghosts += world->is_ghost(b.id) ? 1 : 0;
+    spdlog::info("worker {}: {} bodies, {} of them its own", options.id, world->body_count(),
+                 world->body_count() - ghosts);
+    return true;
+}
+
+void Worker::State::result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason) {
+    wire::CommandResult r;
+    r.client(command.client());
+    r.request(command.request());
+    r.applied(applied);
+    r.order(order);
+    r.frame(frame);
+    r.reason(reason);
+    results_out->write(r);
+}
+
+void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
+    World& w = *world;
+    switch (c.kind()) {
+        case 0: {  // spawn: every worker adds it (its owner as its own, the others as a ghost)
+            BodyDesc body = dds::from_wire(c.spawn());
+            if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
+            Expected<SectorPosition> at = [&]() -> Expected<SectorPosition> {
+                if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position)) return w.grid().from_global(*g);
+                return w.grid().canonical(std::get<SectorPosition>(body.position));
+            }();
+            const bool mine = at && owns(at->sector);
+            Status st = w.add_body(body);
+            if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
+            if (st.ok() && at) touched.insert(at->sector);
+            break;
+        }
+        case 1: {  // remove: every worker removes its copy
+            const bool mine = w.contains(c.body()) && !w.is_ghost(c.body());
+            std::optional<BodySnapshot> before = w.body(c.body());
+            Status st = w.remove_body(c.body());
+            if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
+            if (before) touched.insert(before->position.sector);
+            break;
+        }
+        case 2:
+        case 3: {  // impulse, velocity: the owner applies
+            if (!w.contains(c.body()) || w.is_ghost(c.body())) break;
+            const Eigen::Vector3d a = dds::from_wire(c.vector1()), b = dds::from_wire(c.vector2());
+            Status st = c.kind() == 2 ? w.apply_impulse(c.body(), a, b) : w.set_velocity(c.body(), a, b);
+            result(c, order, st.ok(), st.ok() ? "" : st.error().message);
+            break;
+        }
+        default:
+            break;  // refused by the coordinator already
+    }
+}
+
+void Worker::State::apply_go(const wire::FrameGo& go) {
+    // The assignment in force from this frame on.
+    SectorAssignment announced = dds::from_wire(go.next());
+    if (announced.epoch != next.epoch) next = announced;
+    if (next.epoch != current.epoch && next.from_frame <= go.frame()) {
+        current = next;
+        world->set_ownership([this](const SectorKey& key) { return owns(key); });
+        spdlog::info("worker {}: assignment epoch {} from frame {}", options.id, current.epoch, go.frame());
+    }
+    // Bodies changing hands: every worker moves its copy to the state the old owner handed over, exactly;
+    // the new owner's copy becomes its own body, the old owner's a ghost.
+    for (const wire::Handoff& h : go.handoffs()) {
+        BodySnapshot state = dds::from_wire(h.state(), dds::from_wire(h.sector()));
+        state.position.local = dds::from_wire(h.precise_position());
+        if (!world->contains(h.body())) continue;
+        if (Status st = world->set_state(state); !st) spdlog::warn("worker {}: handoff: {}", options.id, st.error().message);
+        touched.insert(state.position.sector);
+    }
+    for (std::size_t n = 0; n < go.commands().size(); ++n) {
+        const std::uint64_t order = n < go.command_sequence().size() ? go.command_sequence()[n] : 0;
+        apply_command(go.commands()[n], order);
+    }
+}
+
+bool Worker::State::border_data_ready(std::uint64_t previous) const {
+    if (previous == 0) return true;
+    for (std::uint32_t other : current.workers) {
+        if (other == options.id) continue;
+        auto it = marks.find({other, previous});
+        if (it == marks.end()) return false;
+        for (const SectorKey& key : it->second) {
+            auto seen = latest_sample.find(key);
+            if (seen == latest_sample.end() || seen->second < previous) return false;
+        }
+    }
+    return true;
+}
+
+void Worker::State::apply_ghost_updates(std::uint64_t up_to) {
+    // Samples of later frames stay queued: a faster worker's future must not leak into this frame.
+    std::deque<wire::SectorFrame> later;
+    for (const wire::SectorFrame& f : ghost_updates) {
+        if (f.frame() > up_to) {
+            later.push_back(f);
+            continue;
+        }
+        const SectorKey key = dds::from_wire(f.sector());
+        for (const wire::BodyState& b : f.bodies()) {
+            if (world->contains(b.id()) && world->is_ghost(b.id())) {
+                if (Status st = world->set_state(dds::from_wire(b, key)); !st) {
+                    spdlog::warn("worker {}: ghost {}: {}", options.id, b.id(), st.error().message);
+                }
+            }
+        }
+    }
+    ghost_updates.swap(later);
+}
+
+std::vector<SectorKey> Worker::State::publish(bool full) {
+    World& w = *world;
+    std::set<SectorKey> keys(touched.begin(), touched.end());
+    for (const SectorKey& k : w.stepped_sectors()) keys.insert(k);
+    for (const auto& entry : members) keys.insert(entry.first);  // where bodies were: they may have left
+    if (full) {
+        for (const SectorKey& k : w.sectors()) keys.insert(k);
+    }
+    std::vector<SectorKey> written;
+    for (const SectorKey& key : keys) {
+        if (!owns(key)) {
+            // A sector this worker no longer owns: its last word is that everybody left.
+            auto it = members.find(key);
+            if (it == members.end()) continue;
+        }
+        std::vector<BodySnapshot> bodies = owns(key) ? w.sector_bodies(key) : std::vector<BodySnapshot>{};
+        wire::SectorFrame sample;
+        sample.sector(dds::to_wire(key));
+        sample.frame(frame);
+        sample.worker(options.id);
+        sample.epoch(current.epoch);
+        sample.complete(full);
+        std::vector<BodyId> now;
+        for (const BodySnapshot& b : bodies) {
+            now.push_back(b.id);
+            const wire::BodyState state = dds::to_wire(b);
+            auto last = published.find(b.id);
+            if (full || last == published.end() || !same_state(last->second, state)) {
+                sample.bodies().push_back(state);
+                published[b.id] = state;
+            }
+        }
+        std::vector<BodyId>& before = members[key];
+        for (BodyId id : before) {
+            if (!std::binary_search(now.begin(), now.end(), id)) sample.departed().push_back(id);
+        }
+        if (sample.bodies().size() == bodies.size()) sample.complete(true);
+        const bool changed = !sample.bodies().empty() || !sample.departed().empty();
+        before = now;
+        if (!changed && !full) continue;
+        frames_out->write(sample);
+        written.push_back(key);
+        if (now.empty()) {
+            members.erase(key);
+            frames_out->dispose(sample);  // the sector is gone: a late joiner need not see it
+        }
+    }
+    for (auto it = published.begin(); it != published.end();) {
+        it = w.contains(it->first) && !w.is_ghost(it->first) ? std::next(it) : published.erase(it);
+    }
+    touched.clear();
+    return written;
+}
+
+void Worker::State::mark(const std::vector<SectorKey>& written, double step_ms, double wait_ms) {
+    World& w = *world;
+    wire::WorkerFrame m;
+    m.worker(options.id);
+    m.frame(frame);
+    m.epoch(current.epoch);
+    for (const SectorKey& k : written) m.published().push_back(dds::to_wire(k));
+
+    // Bodies leaving this worker: crossing into a sector of another, or standing in a sector it gives up
+    // with the next assignment.
+    const bool reassigning = next.epoch != current.epoch && next.from_frame == frame + 1;
+    const SectorAssignment& after = reassigning ? next : current;
+    std::set<BodyId> leaving;
+    auto hand_over = [&](BodyId id, const SectorPosition& to) {
+        if (!leaving.insert(id).second) return;
+        const std::uint32_t owner = after.owner_of(to.sector);
+        if (owner == options.id) return;
+        BodySnapshot state = *w.body(id);
+        state.position = to;
+        wire::Handoff h;
+        h.body(id);
+        h.from_worker(options.id);
+        h.to_worker(owner);
+        h.sector(dds::to_wire(to.sector));
+        h.state(dds::to_wire(state));
+        h.precise_position(dds::to_wire(to.local));
+        m.leaving().push_back(h);
+    };
+    for (const Departure& d : w.departures()) hand_over(d.id, d.to);
+    if (reassigning) {
+        for (const SectorKey& key : w.sectors()) {
+            if (!owns(key) || after.owner_of(key) == options.id) continue;
+            for (const BodySnapshot& b : w.sector_bodies(key)) {
+                if (w.description(b.id) && w.description(b.id)->mass > 0.0) hand_over(b.id, b.position);
+            }
+        }
+    }
+
+    const FrameStats& s = w.last_frame_stats();
+    std::uint32_t owned = 0, awake = 0, sectors = 0;
+    std::map<SectorKey, float> loads;
+    const bool report_loads = frame % 60 == 0;
+    for (const SectorKey& key : w.sectors()) {
+        if (!owns(key)) continue;
+        ++sectors;
+        for (const BodySnapshot& b : w.sector_bodies(key)) {
+            ++owned;
+            awake += b.awake ? 1 : 0;
+            if (report_loads) loads[block_of(key, current.block_size)] += b.awake ? 2.0f : 1.0f;
+        }
+    }
+    for (const auto& [block, load] : loads) {
+        wire::BlockLoad l;
+        l.block(dds::to_wire(block));
+        l.load(load);
+        m.loads().push_back(l);
+    }
+    m.bodies(owned);
+    m.awake(awake);
+    m.sectors(sectors);
+    m.border_bodies(static_cast<std::uint32_t>(s.border_bodies));
+    m.clones(static_cast<std::uint32_t>(s.clones));
+    m.step_ms(static_cast<float>(step_ms));
+    m.wait_ms(static_cast<float>(wait_ms));
+    m.degraded(degraded);
+    marks_out->write(m);
+}
+
+int Worker::run(const std::atomic<bool>& stop) {
+    State& s = *state_;
+    const std::uint32_t id = s.options.id;
+    // Hello: frame 0 tells the coordinator this worker is up.
+    wire::WorkerFrame hello;
+    hello.worker(id);
+    hello.frame(0);
+    s.marks_out->write(hello);
+    spdlog::info("worker {}: up on domain {}, waiting for the coordinator", id, s.participant->domain());
+
+    const auto started = Clock::now();
+    while (!stop.load()) {
+        s.pump();
+        auto go = s.gos.find(s.frame + 1);
+        if (go == s.gos.end()) {
+            if (!s.world && Clock::now() - started > s.options.coordinator_wait) {
+                spdlog::error("worker {}: no coordinator found on domain {} within {} s", id, s.participant->domain(),
+                              s.options.coordinator_wait.count() / 1000);
+                return 3;
+            }
+            s.inbox.wait(std::chrono::milliseconds(50));
+            continue;
+        }
+        const wire::FrameGo current = go->second;
+        s.gos.erase(s.gos.begin(), std::next(go));
+        if (current.stop()) {
+            spdlog::info("worker {}: stopped by the coordinator after frame {}", id, s.frame);
+            return 0;
+        }
+        if (!s.world && !s.start_world(current)) return 4;
+        const auto wait_start = Clock::now();
+        s.frame = current.frame();
+        // The other workers' data of the previous frame, within a bounded wait.
+        while (!s.border_data_ready(s.frame - 1) && !stop.load()) {
+            if (Clock::now() - wait_start > s.options.border_wait) {
+                ++s.degraded;
+                spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded)", id, s.frame,
+                             s.frame - 1);
+                break;
+            }
+            s.inbox.wait(std::chrono::milliseconds(5));
+            s.pump();
+        }
+        s.apply_ghost_updates(s.frame - 1);
+        s.apply_go(current);
+        const double wait_ms = ms_since(wait_start);
+        const auto step_start = Clock::now();
+        s.world->step();
+        const double step_ms = ms_since(step_start);
+        const bool full = s.frame == 1 || s.frames_out->take_new_matches() > 0;
+        const std::vector<SectorKey> written = s.publish(full);
+        s.mark(written, step_ms, wait_ms);
+        // Forget what no longer matters: marks of frames before the previous one.
+        for (auto it = s.marks.begin(); it != s.marks.end();) {
+            it = it->first.second + 1 < s.frame ? s.marks.erase(it) : std::next(it);
+        }
+    }
+    spdlog::info("worker {}: stopping", id);
+    return 0;
+}
+
+}  // namespace lpss::worker
