@@ -4,9 +4,9 @@
 #include "lpss.h"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/body_desc.hpp"
-#include "lpss/common/world_settings.hpp"
 #include "lpss/common/body_snapshot.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "lpss/common/world_settings.hpp"
 
 namespace lpss::dds {
 

@@ -94,7 +94,8 @@ class Writer : public fdds::DataWriterListener {
 public:
     Writer(Participant& participant, fdds::Topic* topic, const fdds::DataWriterQos& qos)
         : participant_(participant),
-          writer_(participant.publisher()->create_datawriter(topic, qos, this, fdds::StatusMask::publication_matched())) {}
+          writer_(participant.publisher()->create_datawriter(topic, qos, this,
+                                                             fdds::StatusMask::publication_matched())) {}
     ~Writer() override {
         if (writer_) participant_.publisher()->delete_datawriter(writer_);
     }
@@ -104,7 +105,8 @@ public:
     bool ok() const { return writer_ != nullptr; }
     bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
     bool dispose(const T& sample) {
-        return writer_->dispose(const_cast<T*>(&sample), fdds::HANDLE_NIL) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+        return writer_->dispose(const_cast<T*>(&sample), fdds::HANDLE_NIL) ==
+               eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
     }
     int matched() const { return matched_.load(); }
     /// Readers matched since the last call (a late joiner to serve).
@@ -126,11 +128,13 @@ private:
 template <class T>
 class Reader {
 public:
-    Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos, Inbox* inbox)
+    Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
+           Inbox* inbox)
         : participant_(participant),
           reader_(participant.subscriber()->create_datareader(
-              topic, qos, inbox, inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
-                                       : fdds::StatusMask::none())) {}
+              topic, qos, inbox,
+              inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
+                    : fdds::StatusMask::none())) {}
     ~Reader() {
         if (reader_) participant_.subscriber()->delete_datareader(reader_);
     }
@@ -145,7 +149,8 @@ public:
         int count = 0;
         T sample;
         fdds::SampleInfo info;
-        while (reader_->take_next_sample(&sample, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        while (reader_->take_next_sample(&sample, &info) ==
+               eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
             each(sample, info);
             ++count;
         }

@@ -22,7 +22,9 @@ wire::Quatf to_wire_q(const Eigen::Quaterniond& q) {
     return out;
 }
 
-Eigen::Quaterniond from_wire_q(const wire::Quatf& q) { return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()); }
+Eigen::Quaterniond from_wire_q(const wire::Quatf& q) {
+    return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
+}
 
 }  // namespace
 
@@ -84,7 +86,8 @@ wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, 
         d.size(to_wire(Eigen::Vector3d(c->radius, c->height, 0)));
     } else if (const auto* h = std::get_if<ConvexHull>(&body.shape)) {
         d.shape(3);
-        for (const Eigen::Vector3d& p : h->points) points.push_back(to_wire(p));
+        for (const Eigen::Vector3d& p : h->points)
+            points.push_back(to_wire(p));
     } else if (const auto* p = std::get_if<Plane>(&body.shape)) {
         d.shape(4);
         d.size(to_wire(p->normal));
@@ -126,7 +129,8 @@ BodyDesc from_wire(const wire::BodyDescription& d) {
             break;
         case 3: {
             ConvexHull hull;
-            for (const wire::Vec3d& p : d.hull_points()) hull.points.push_back(from_wire(p));
+            for (const wire::Vec3d& p : d.hull_points())
+                hull.points.push_back(from_wire(p));
             body.shape = hull;
             break;
         }
@@ -192,7 +196,8 @@ wire::Assignment to_wire(const SectorAssignment& a, const WorldSettings& setting
     out.block_size(static_cast<std::int32_t>(a.block_size));
     out.workers(a.workers);
     std::vector<wire::MortonCode> starts;
-    for (const MortonCode& c : a.starts) starts.push_back(to_wire(c));
+    for (const MortonCode& c : a.starts)
+        starts.push_back(to_wire(c));
     out.starts(starts);
     return out;
 }
@@ -203,7 +208,8 @@ SectorAssignment from_wire(const wire::Assignment& a) {
     out.from_frame = a.from_frame();
     out.block_size = a.block_size();
     out.workers = a.workers();
-    for (const wire::MortonCode& c : a.starts()) out.starts.push_back(from_wire(c));
+    for (const wire::MortonCode& c : a.starts())
+        out.starts.push_back(from_wire(c));
     return out;
 }
 

@@ -1,8 +1,8 @@
 #include "lpss_dds/participant.hpp"
 
+#include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
-#include <spdlog/spdlog.h>
 
 #include <cstring>
 #include <fstream>
@@ -48,19 +48,22 @@ Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_
 
 Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std::string& profile_file,
                                                            const std::string& name) {
-    if (domain < 0 || domain > 232) return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
+    if (domain < 0 || domain > 232)
+        return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
     Expected<fdds::DomainParticipantQos> qos = participant_qos(profile_file);
     if (!qos) return qos.error();
     qos->name(name);
     std::unique_ptr<Participant> p(new Participant());
     p->domain_ = domain;
     p->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos.value());
-    if (p->participant_ == nullptr) return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
+    if (p->participant_ == nullptr)
+        return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     p->region_factory_ = std::make_unique<RegionFilterFactory>();
     p->participant_->register_content_filter_factory(kRegionFilterClass, p->region_factory_.get());
-    if (p->publisher_ == nullptr || p->subscriber_ == nullptr) return Error{"cannot create DDS publisher/subscriber"};
+    if (p->publisher_ == nullptr || p->subscriber_ == nullptr)
+        return Error{"cannot create DDS publisher/subscriber"};
     return p;
 }
 
@@ -71,7 +74,8 @@ Participant::~Participant() {
     for (auto& [name, topic] : filtered_) {
         participant_->delete_contentfilteredtopic(static_cast<fdds::ContentFilteredTopic*>(topic));
     }
-    for (auto& [name, topic] : topics_) participant_->delete_topic(topic);
+    for (auto& [name, topic] : topics_)
+        participant_->delete_topic(topic);
     if (publisher_) participant_->delete_publisher(publisher_);
     if (subscriber_) participant_->delete_subscriber(subscriber_);
     participant_->unregister_content_filter_factory(kRegionFilterClass);
@@ -130,9 +134,9 @@ void Inbox::poke() { on_data_available(nullptr); }
 fdds::DataWriterQos writer_qos(const Delivery& d) {
     fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
     // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
-    q.resource_limits().max_instances = 0;  // 0: unlimited
-    q.resource_limits().max_samples = 0;
-    q.resource_limits().max_samples_per_instance = 0;
+    q.resource_limits().max_instances = 0;                   // 0: unlimited
+    q.resource_limits().max_samples = 0;                     // 0: unlimited
+    q.resource_limits().max_samples_per_instance = d.depth;  // 0 would mean one
     q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -145,9 +149,9 @@ fdds::DataWriterQos writer_qos(const Delivery& d) {
 fdds::DataReaderQos reader_qos(const Delivery& d) {
     fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
     // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
-    q.resource_limits().max_instances = 0;  // 0: unlimited
-    q.resource_limits().max_samples = 0;
-    q.resource_limits().max_samples_per_instance = 0;
+    q.resource_limits().max_instances = 0;                   // 0: unlimited
+    q.resource_limits().max_samples = 0;                     // 0: unlimited
+    q.resource_limits().max_samples_per_instance = d.depth;  // 0 would mean one
     q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;

@@ -9,9 +9,9 @@
 #include <thread>
 #include <unordered_map>
 
-#include "lpssPubSubTypes.h"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/scene.hpp"
+#include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/topics.hpp"
@@ -107,8 +107,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
-    state->commands_in = std::make_unique<Reader<wire::Command>>(p, p.topic<wire::CommandPubSubType>(kCommands),
-                                                                 reader_qos(kCommandDelivery), &state->inbox);
+    state->commands_in = std::make_unique<Reader<wire::Command>>(
+        p, p.topic<wire::CommandPubSubType>(kCommands), reader_qos(kCommandDelivery), &state->inbox);
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->descriptions_out->ok() ||
         !state->results_out->ok() || !state->marks_in->ok() || !state->commands_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
@@ -120,7 +120,8 @@ void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
         last_heard[m.worker()] = Clock::now();
-        for (const wire::BlockLoad& l : m.loads()) block_loads[dds::from_wire(l.block())] = l.load();
+        for (const wire::BlockLoad& l : m.loads())
+            block_loads[dds::from_wire(l.block())] = l.load();
         marks[{m.worker(), m.frame()}] = m;
     });
 }
@@ -130,9 +131,7 @@ void Coordinator::State::describe(BodyId id) {
     descriptions_out->write(dds::describe(e.desc, e.state, e.owner));
 }
 
-void Coordinator::State::publish_assignment() {
-    assignment_out->write(dds::to_wire(next, scene.settings));
-}
+void Coordinator::State::publish_assignment() { assignment_out->write(dds::to_wire(next, scene.settings)); }
 
 void Coordinator::State::refuse(const wire::Command& c, const std::string& reason) {
     wire::CommandResult r;
@@ -156,8 +155,10 @@ void Coordinator::State::accept_commands() {
             case 0: {
                 BodyDesc body = dds::from_wire(c.spawn());
                 if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-                if (Status st = validate_body(body, scene.settings); !st) return refuse(c, st.error().message);
-                if (bodies.count(body.id)) return refuse(c, describe_body(body) + ": id is used by another body");
+                if (Status st = validate_body(body, scene.settings); !st)
+                    return refuse(c, st.error().message);
+                if (bodies.count(body.id))
+                    return refuse(c, describe_body(body) + ": id is used by another body");
                 break;
             }
             case 1:
@@ -198,7 +199,8 @@ void Coordinator::State::accept_commands() {
             order.push_back(body.id);
             describe(body.id);
         } else if (c.kind() == 1) {
-            descriptions_out->dispose(dds::describe(known->second.desc, known->second.state, known->second.owner));
+            descriptions_out->dispose(
+                dds::describe(known->second.desc, known->second.state, known->second.owner));
             bodies.erase(known);
             order.erase(std::find(order.begin(), order.end(), c.body()));
         }
@@ -223,13 +225,16 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
     for (;;) {
         pump();
         bool all = true;
-        for (std::uint32_t w : live) all = all && marks.count({w, f});
+        for (std::uint32_t w : live)
+            all = all && marks.count({w, f});
         if (all) return true;
         if (stop.load()) return false;
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (marks.count({w, f})) continue;
             if (Clock::now() - last_heard[w] > options.worker_timeout) {
-                spdlog::error("coordinator: worker {} stopped answering at frame {}; its sectors go to the others", w, f);
+                spdlog::error(
+                    "coordinator: worker {} stopped answering at frame {}; its sectors go to the others", w,
+                    f);
                 live.erase(w);
                 if (live.empty()) return false;
                 reassign(f + 1, "a worker is gone");
@@ -256,15 +261,17 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
             ++handoffs;
         }
     }
-    for (auto it = marks.begin(); it != marks.end();) it = it->first.second < f ? marks.erase(it) : std::next(it);
+    for (auto it = marks.begin(); it != marks.end();)
+        it = it->first.second < f ? marks.erase(it) : std::next(it);
 }
 
 void Coordinator::State::reassign(std::uint64_t from_frame, const char* why) {
     std::vector<std::pair<SectorKey, double>> loads;
     for (const auto& [block, load] : block_loads) {
         // A block's load stands for its first sector: balanced() groups sectors into the same blocks.
-        loads.push_back({SectorKey{block.i * next.block_size, block.j * next.block_size, block.k * next.block_size},
-                         static_cast<double>(load)});
+        loads.push_back(
+            {SectorKey{block.i * next.block_size, block.j * next.block_size, block.k * next.block_size},
+             static_cast<double>(load)});
     }
     if (loads.empty()) {
         for (const auto& [id, e] : bodies) {
@@ -297,14 +304,16 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (stop.load()) return 0;
         if (Clock::now() - wait_start > o.worker_wait) {
             std::string list;
-            for (std::uint32_t w : missing) list += (list.empty() ? "" : ", ") + std::to_string(w);
+            for (std::uint32_t w : missing)
+                list += (list.empty() ? "" : ", ") + std::to_string(w);
             spdlog::error("coordinator: worker(s) {} did not appear on domain {} within {} s", list,
                           s.participant->domain(), o.worker_wait.count() / 1000);
             return 3;
         }
         s.inbox.wait(std::chrono::milliseconds(50));
     }
-    for (std::uint32_t w = 1; w <= o.workers; ++w) s.live.insert(w);
+    for (std::uint32_t w = 1; w <= o.workers; ++w)
+        s.live.insert(w);
 
     // The first assignment: bodies per sector, balanced along the Morton curve.
     std::vector<std::pair<SectorKey, double>> loads;
@@ -353,8 +362,10 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.handoffs(s.grants);
         go.commands(s.commands);
         go.command_sequence(s.command_order);
-        if (o.realtime) std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                                  std::chrono::duration<double>((f - 1) * s.scene.settings.dt)));
+        if (o.realtime)
+            std::this_thread::sleep_until(start +
+                                          std::chrono::duration_cast<Clock::duration>(
+                                              std::chrono::duration<double>((f - 1) * s.scene.settings.dt)));
         s.go_out->write(go);
         if (finished) {
             spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
@@ -375,7 +386,8 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.collect_handoffs(f);
-        if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 && s.next.epoch == s.current.epoch) {
+        if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
+            s.next.epoch == s.current.epoch) {
             std::map<std::uint32_t, double> per_worker;
             for (const auto& [block, load] : s.block_loads) {
                 per_worker[s.current.owner_of({block.i * s.current.block_size, block.j * s.current.block_size,

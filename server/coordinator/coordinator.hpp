@@ -23,7 +23,7 @@ struct CoordinatorOptions {
     bool realtime = false;     ///< pace frames at the scene's dt; otherwise as fast as the workers go
     std::int64_t block_size = 4;
     std::uint64_t rebalance_every = 300;  ///< frames between load checks; 0: never move sectors
-    double rebalance_threshold = 1.5;     ///< move sectors when the busiest worker has this times the mean load
+    double rebalance_threshold = 1.5;  ///< move sectors when the busiest worker has this times the mean load
     std::chrono::milliseconds worker_wait{30000};    ///< for the workers to appear
     std::chrono::milliseconds worker_timeout{5000};  ///< silence after which a worker is taken as gone
 };

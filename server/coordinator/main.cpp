@@ -1,7 +1,7 @@
 // lpss-coordinator: owns sector assignment, frame starts, handoffs and command order. Usually started by
 // lpss-cluster.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "coordinator.hpp"
 #include "lpss/common/logging.hpp"
@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
     app.add_flag("--realtime", o.realtime, "pace frames at the scene's dt");
     app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", o.profile, "Fast DDS XML profile (default: built-in, this machine only)");
-    app.add_option("--block-size", o.block_size, "sectors per block edge in assignments")->check(CLI::Range(1, 1 << 20));
+    app.add_option("--block-size", o.block_size, "sectors per block edge in assignments")
+        ->check(CLI::Range(1, 1 << 20));
     app.add_option("--rebalance-every", o.rebalance_every, "frames between load checks (0: never)");
     app.add_option("--worker-wait-s", worker_wait_s, "how long to wait for the workers to appear");
     app.add_option("--worker-timeout-ms", worker_timeout_ms, "silence after which a worker is taken as gone");

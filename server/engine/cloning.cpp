@@ -54,7 +54,8 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         bool awake_ghost = false;
         for (std::uint32_t slot : candidates) {
             const BodyRecord& rec = record(slot);
-            awake_ghost = awake_ghost || (rec.alive && rec.dynamic && rec.sector->remote && rec.rb->isActive());
+            awake_ghost =
+                awake_ghost || (rec.alive && rec.dynamic && rec.sector->remote && rec.rb->isActive());
         }
         if (!awake_ghost) return;
     }
@@ -74,7 +75,8 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     };
     const std::size_t awake_sectors = step_set.size();
     for (std::size_t n = 0; n < awake_sectors; ++n) {
-        for (std::uint32_t slot : step_set[n]->originals) extend_from(slot);
+        for (std::uint32_t slot : step_set[n]->originals)
+            extend_from(slot);
     }
     for (std::uint32_t slot : candidates) {
         if (record(slot).alive && !record(slot).plane && record(slot).sector->remote) extend_from(slot);

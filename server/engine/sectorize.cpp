@@ -16,7 +16,7 @@ void World::Impl::sectorize(const std::vector<std::uint32_t>& candidates) {
             continue;
         // Any distance: a fast body may cross several sectors in one frame.
         Expected<SectorPosition> to = grid.canonical(SectorPosition{rec.sector->key, local});
-        if (!to.ok()) continue;  // past the edge of the grid (index 2^62): it stays where it is
+        if (!to.ok()) continue;           // past the edge of the grid (index 2^62): it stays where it is
         if (!owns(to->sector)) continue;  // handed off by its process: World::departures()
         move_body(slot, to.value());
         ++stats.sector_changes;

@@ -418,8 +418,9 @@ Status World::set_state(const BodySnapshot& state) {
     const std::uint32_t slot = found.value();
     BodyRecord& rec = w.record(slot);
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and cannot be moved"};
-    if (!state.position.local.allFinite() || !in_range(state.position.sector) || !state.orientation.coeffs().allFinite() ||
-        state.orientation.norm() < 1e-9 || !state.linear_velocity.allFinite() || !state.angular_velocity.allFinite()) {
+    if (!state.position.local.allFinite() || !in_range(state.position.sector) ||
+        !state.orientation.coeffs().allFinite() || state.orientation.norm() < 1e-9 ||
+        !state.linear_velocity.allFinite() || !state.angular_velocity.allFinite()) {
         return Error{describe_body(*rec.desc) + ": state is not finite"};
     }
     Expected<SectorPosition> at = w.grid.canonical(state.position);
@@ -438,7 +439,8 @@ Status World::set_state(const BodySnapshot& state) {
     return {};
 }
 
-void World::Impl::place_body(std::uint32_t slot, const SectorPosition& at, const Eigen::Quaterniond& orientation) {
+void World::Impl::place_body(std::uint32_t slot, const SectorPosition& at,
+                             const Eigen::Quaterniond& orientation) {
     BodyRecord& rec = record(slot);
     if (at.sector != rec.sector->key) move_body(slot, at);
     Sector& sector = *rec.sector;
@@ -466,7 +468,8 @@ void World::set_ownership(std::function<bool(const SectorKey&)> owns) {
                 if (w.record(slot).dynamic && w.record(slot).rb->isActive()) w.wake(*sector);
             }
         }
-        for (std::uint32_t slot : sector->originals) w.dirty.push_back(slot);
+        for (std::uint32_t slot : sector->originals)
+            w.dirty.push_back(slot);
     }
 }
 
@@ -496,15 +499,18 @@ std::vector<BodySnapshot> World::sector_bodies(const SectorKey& key) const {
     const Sector* sector = impl_->find_sector(key);
     if (sector == nullptr) return out;
     out.reserve(sector->originals.size());
-    for (std::uint32_t slot : sector->originals) out.push_back(impl_->snapshot_of(impl_->record(slot)));
-    std::sort(out.begin(), out.end(), [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
+    for (std::uint32_t slot : sector->originals)
+        out.push_back(impl_->snapshot_of(impl_->record(slot)));
+    std::sort(out.begin(), out.end(),
+              [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
     return out;
 }
 
 std::vector<SectorKey> World::stepped_sectors() const {
     std::vector<SectorKey> out;
     out.reserve(impl_->step_set.size());
-    for (const Sector* s : impl_->step_set) out.push_back(s->key);
+    for (const Sector* s : impl_->step_set)
+        out.push_back(s->key);
     std::sort(out.begin(), out.end());
     return out;
 }

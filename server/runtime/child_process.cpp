@@ -10,13 +10,15 @@
 
 namespace lpss::runtime {
 
-std::optional<ChildProcess> ChildProcess::start(const std::string& program, const std::vector<std::string>& arguments,
+std::optional<ChildProcess> ChildProcess::start(const std::string& program,
+                                                const std::vector<std::string>& arguments,
                                                 const std::string& log_file) {
     std::vector<std::string> args;
     args.push_back(program);
     args.insert(args.end(), arguments.begin(), arguments.end());
     std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
+    for (std::string& a : args)
+        argv.push_back(a.data());
     argv.push_back(nullptr);
     const pid_t pid = fork();
     if (pid < 0) return std::nullopt;

@@ -14,7 +14,8 @@ namespace lpss::runtime {
 class ChildProcess {
 public:
     /// Starts `program` with `arguments`; its output goes where ours does, or to `log_file` if given.
-    static std::optional<ChildProcess> start(const std::string& program, const std::vector<std::string>& arguments,
+    static std::optional<ChildProcess> start(const std::string& program,
+                                             const std::vector<std::string>& arguments,
                                              const std::string& log_file = "");
     ChildProcess(ChildProcess&& other) noexcept;
     ChildProcess& operator=(ChildProcess&& other) noexcept;

@@ -1,6 +1,6 @@
 // lpss-worker: a sector worker process. Usually started by lpss-cluster.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "lpss/common/logging.hpp"
 #include "stop_signal.hpp"
@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
     int coordinator_wait_s = 30;
     app.add_option("--id", options.id, "worker id, 1..N")->required()->check(CLI::Range(1u, 1000000u));
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
-    app.add_option("--profile", options.profile, "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--profile", options.profile,
+                   "Fast DDS XML profile (default: built-in, this machine only)");
     app.add_option("--threads", options.threads, "threads stepping sectors")->check(CLI::Range(1, 256));
     app.add_option("--border-wait-ms", border_wait_ms, "longest wait for other workers' data before a frame");
     app.add_option("--coordinator-wait-s", coordinator_wait_s, "how long to wait for a coordinator");

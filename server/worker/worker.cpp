@@ -10,9 +10,9 @@
 #include <thread>
 #include <unordered_map>
 
-#include "lpssPubSubTypes.h"
 #include "lpss/common/assignment.hpp"
 #include "lpss/engine/world.hpp"
+#include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/topics.hpp"
@@ -23,14 +23,18 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
-    auto eq3 = [](const wire::Vec3f& x, const wire::Vec3f& y) { return x.x() == y.x() && x.y() == y.y() && x.z() == y.z(); };
+    auto eq3 = [](const wire::Vec3f& x, const wire::Vec3f& y) {
+        return x.x() == y.x() && x.y() == y.y() && x.z() == y.z();
+    };
     return eq3(a.position(), b.position()) && eq3(a.linear_velocity(), b.linear_velocity()) &&
            eq3(a.angular_velocity(), b.angular_velocity()) && a.orientation().x() == b.orientation().x() &&
            a.orientation().y() == b.orientation().y() && a.orientation().z() == b.orientation().z() &&
            a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
 }
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double ms_since(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 }  // namespace
 
@@ -54,15 +58,17 @@ struct Worker::State {
 
     // Received and not yet used.
     std::map<std::uint64_t, wire::FrameGo> gos;
-    std::vector<BodyDesc> early_descriptions;  ///< before the world exists, in arrival order
+    std::vector<BodyDesc> early_descriptions;     ///< before the world exists, in arrival order
     std::deque<wire::SectorFrame> ghost_updates;  ///< other workers' samples, applied frame by frame
     std::unordered_map<SectorKey, std::uint64_t, SectorKeyHash> latest_sample;  ///< of other workers
-    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks;  ///< (worker, frame)
+    /// (worker, frame) -> that worker's sectors and the frame of each one's latest sample
+    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<std::pair<SectorKey, std::uint64_t>>> marks;
 
     // What this worker last told the others.
     std::unordered_map<BodyId, wire::BodyState> published;
     std::unordered_map<SectorKey, std::vector<BodyId>, SectorKeyHash> members;
-    std::set<SectorKey> touched;  ///< sectors changed by commands and handoffs this frame
+    std::map<SectorKey, std::uint64_t> stamps;  ///< owned sectors and the frame of their latest sample
+    std::set<SectorKey> touched;                ///< sectors changed by commands and handoffs this frame
 
     bool owns(const SectorKey& key) const { return current.owner_of(key) == options.id; }
     void pump();
@@ -73,7 +79,7 @@ struct Worker::State {
     bool border_data_ready(std::uint64_t previous) const;
     void apply_ghost_updates(std::uint64_t up_to);
     std::vector<SectorKey> publish(bool full);
-    void mark(const std::vector<SectorKey>& published, double step_ms, double wait_ms);
+    void mark(const std::vector<SectorKey>& published, bool full, double step_ms, double wait_ms);
 };
 
 Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -94,28 +100,31 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     if (options.id == 0) return Error{"worker ids start at 1"};
     auto state = std::make_unique<State>();
     state->options = options;
-    Expected<std::unique_ptr<dds::Participant>> participant =
-        dds::Participant::create(options.domain, options.profile, "lpss-worker-" + std::to_string(options.id));
+    Expected<std::unique_ptr<dds::Participant>> participant = dds::Participant::create(
+        options.domain, options.profile, "lpss-worker-" + std::to_string(options.id));
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;
     using namespace dds;
-    state->frames_out = std::make_unique<Writer<wire::SectorFrame>>(p, p.topic<wire::SectorFramePubSubType>(kSectorFrames),
-                                                                    writer_qos(kSectorFrameDelivery));
-    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames),
-                                                                   writer_qos(kFrameDelivery));
+    state->frames_out = std::make_unique<Writer<wire::SectorFrame>>(
+        p, p.topic<wire::SectorFramePubSubType>(kSectorFrames), writer_qos(kSectorFrameDelivery));
+    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(
+        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), writer_qos(kFrameDelivery));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
-    state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(
-        p, p.topic<wire::SectorFramePubSubType>(kSectorFrames), reader_qos(kSectorFrameReading), &state->inbox);
+    state->frames_in =
+        std::make_unique<Reader<wire::SectorFrame>>(p, p.topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                                    reader_qos(kSectorFrameReading), &state->inbox);
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
     state->go_in = std::make_unique<Reader<wire::FrameGo>>(p, p.topic<wire::FrameGoPubSubType>(kFrameGo),
                                                            reader_qos(kFrameDelivery), &state->inbox);
     state->descriptions_in = std::make_unique<Reader<wire::BodyDescription>>(
-        p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading), &state->inbox);
-    if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() || !state->frames_in->ok() ||
-        !state->marks_in->ok() || !state->go_in->ok() || !state->descriptions_in->ok()) {
+        p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
+        &state->inbox);
+    if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() ||
+        !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() ||
+        !state->descriptions_in->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
@@ -131,19 +140,22 @@ void Worker::State::pump() {
         spdlog::debug("worker {}: description of body {}", options.id, body.id);
         if (!world) {
             auto same = [&](const BodyDesc& b) { return b.id == body.id; };
-            if (std::find_if(early_descriptions.begin(), early_descriptions.end(), same) == early_descriptions.end()) {
+            if (std::find_if(early_descriptions.begin(), early_descriptions.end(), same) ==
+                early_descriptions.end()) {
                 early_descriptions.push_back(body);
             }
         } else if (!world->contains(body.id)) {
             // A body that appeared while this worker ran (spawned bodies are added by their command).
-            if (Status st = world->add_body(body); !st) spdlog::warn("worker {}: {}", options.id, st.error().message);
+            if (Status st = world->add_body(body); !st)
+                spdlog::warn("worker {}: {}", options.id, st.error().message);
         }
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.worker() == options.id) return;
-        std::vector<SectorKey> keys;
-        for (const wire::SectorKey& k : m.published()) keys.push_back(dds::from_wire(k));
-        marks[{m.worker(), m.frame()}] = std::move(keys);
+        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+        for (const wire::SectorStamp& st : m.sectors())
+            stamps.emplace_back(dds::from_wire(st.sector()), st.frame());
+        marks[{m.worker(), m.frame()}] = std::move(stamps);
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || f.worker() == options.id) return;
@@ -161,8 +173,8 @@ bool Worker::State::start_world(const wire::FrameGo& go) {
         pump();
     }
     if (early_descriptions.size() < go.bodies()) {
-        spdlog::error("worker {}: only {} of {} body descriptions arrived", options.id, early_descriptions.size(),
-                      go.bodies());
+        spdlog::error("worker {}: only {} of {} body descriptions arrived", options.id,
+                      early_descriptions.size(), go.bodies());
         return false;
     }
     const WorldSettings settings = dds::from_wire(go.next().settings());
@@ -173,7 +185,8 @@ bool Worker::State::start_world(const wire::FrameGo& go) {
     engine.owns = [this](const SectorKey& key) { return owns(key); };
     Expected<World> created = World::create(settings, engine);
     if (!created) {
-        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id, created.error().message);
+        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id,
+                      created.error().message);
         return false;
     }
     world.emplace(std::move(created).value());
@@ -183,13 +196,15 @@ bool Worker::State::start_world(const wire::FrameGo& go) {
     }
     early_descriptions.clear();
     std::size_t ghosts = 0;
-    for (const BodySnapshot& b : world->snapshot()) ghosts += world->is_ghost(b.id) ? 1 : 0;
+    for (const BodySnapshot& b : world->snapshot())
+        ghosts += world->is_ghost(b.id) ? 1 : 0;
     spdlog::info("worker {}: {} bodies, {} of them its own", options.id, world->body_count(),
                  world->body_count() - ghosts);
     return true;
 }
 
-void Worker::State::result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason) {
+void Worker::State::result(const wire::Command& command, std::uint64_t order, bool applied,
+                           const std::string& reason) {
     wire::CommandResult r;
     r.client(command.client());
     r.request(command.request());
@@ -207,7 +222,8 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             BodyDesc body = dds::from_wire(c.spawn());
             if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
             Expected<SectorPosition> at = [&]() -> Expected<SectorPosition> {
-                if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position)) return w.grid().from_global(*g);
+                if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position))
+                    return w.grid().from_global(*g);
                 return w.grid().canonical(std::get<SectorPosition>(body.position));
             }();
             const bool mine = at && owns(at->sector);
@@ -252,7 +268,8 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
         BodySnapshot state = dds::from_wire(h.state(), dds::from_wire(h.sector()));
         state.position.local = dds::from_wire(h.precise_position());
         if (!world->contains(h.body())) continue;
-        if (Status st = world->set_state(state); !st) spdlog::warn("worker {}: handoff: {}", options.id, st.error().message);
+        if (Status st = world->set_state(state); !st)
+            spdlog::warn("worker {}: handoff: {}", options.id, st.error().message);
         touched.insert(state.position.sector);
     }
     for (std::size_t n = 0; n < go.commands().size(); ++n) {
@@ -267,9 +284,9 @@ bool Worker::State::border_data_ready(std::uint64_t previous) const {
         if (other == options.id) continue;
         auto it = marks.find({other, previous});
         if (it == marks.end()) return false;
-        for (const SectorKey& key : it->second) {
+        for (const auto& [key, stamp] : it->second) {
             auto seen = latest_sample.find(key);
-            if (seen == latest_sample.end() || seen->second < previous) return false;
+            if (seen == latest_sample.end() || seen->second < stamp) return false;
         }
     }
     return true;
@@ -298,10 +315,13 @@ void Worker::State::apply_ghost_updates(std::uint64_t up_to) {
 std::vector<SectorKey> Worker::State::publish(bool full) {
     World& w = *world;
     std::set<SectorKey> keys(touched.begin(), touched.end());
-    for (const SectorKey& k : w.stepped_sectors()) keys.insert(k);
-    for (const auto& entry : members) keys.insert(entry.first);  // where bodies were: they may have left
+    for (const SectorKey& k : w.stepped_sectors())
+        keys.insert(k);
+    for (const auto& entry : members)
+        keys.insert(entry.first);  // where bodies were: they may have left
     if (full) {
-        for (const SectorKey& k : w.sectors()) keys.insert(k);
+        for (const SectorKey& k : w.sectors())
+            keys.insert(k);
     }
     std::vector<SectorKey> written;
     for (const SectorKey& key : keys) {
@@ -317,13 +337,17 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         sample.worker(options.id);
         sample.epoch(current.epoch);
         sample.complete(full);
+        // A sector is sent whole, and only when something in it changed: its last sample (durable) is then
+        // all of it, which is what a reader joining late needs.
         std::vector<BodyId> now;
+        bool changed = full;
         for (const BodySnapshot& b : bodies) {
             now.push_back(b.id);
             const wire::BodyState state = dds::to_wire(b);
+            sample.bodies().push_back(state);
             auto last = published.find(b.id);
-            if (full || last == published.end() || !same_state(last->second, state)) {
-                sample.bodies().push_back(state);
+            if (last == published.end() || !same_state(last->second, state)) {
+                changed = true;
                 published[b.id] = state;
             }
         }
@@ -331,14 +355,16 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         for (BodyId id : before) {
             if (!std::binary_search(now.begin(), now.end(), id)) sample.departed().push_back(id);
         }
-        if (sample.bodies().size() == bodies.size()) sample.complete(true);
-        const bool changed = !sample.bodies().empty() || !sample.departed().empty();
+        sample.complete(true);
+        changed = changed || !sample.departed().empty();
         before = now;
-        if (!changed && !full) continue;
+        if (!changed) continue;
         frames_out->write(sample);
         written.push_back(key);
+        stamps[key] = frame;
         if (now.empty()) {
             members.erase(key);
+            stamps.erase(key);
             frames_out->dispose(sample);  // the sector is gone: a late joiner need not see it
         }
     }
@@ -349,13 +375,22 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
     return written;
 }
 
-void Worker::State::mark(const std::vector<SectorKey>& written, double step_ms, double wait_ms) {
+void Worker::State::mark(const std::vector<SectorKey>& written, bool full, double step_ms, double wait_ms) {
     World& w = *world;
     wire::WorkerFrame m;
     m.worker(options.id);
     m.frame(frame);
     m.epoch(current.epoch);
-    for (const SectorKey& k : written) m.published().push_back(dds::to_wire(k));
+    for (auto it = stamps.begin(); it != stamps.end();)
+        it = owns(it->first) ? std::next(it) : stamps.erase(it);
+    for (const auto& [key, stamp] : stamps) {
+        wire::SectorStamp st;
+        st.sector(dds::to_wire(key));
+        st.frame(stamp);
+        m.sectors().push_back(st);
+    }
+    (void)written;
+    (void)full;
 
     // Bodies leaving this worker: crossing into a sector of another, or standing in a sector it gives up
     // with the next assignment.
@@ -377,7 +412,8 @@ void Worker::State::mark(const std::vector<SectorKey>& written, double step_ms, 
         h.precise_position(dds::to_wire(to.local));
         m.leaving().push_back(h);
     };
-    for (const Departure& d : w.departures()) hand_over(d.id, d.to);
+    for (const Departure& d : w.departures())
+        hand_over(d.id, d.to);
     if (reassigning) {
         for (const SectorKey& key : w.sectors()) {
             if (!owns(key) || after.owner_of(key) == options.id) continue;
@@ -408,7 +444,7 @@ void Worker::State::mark(const std::vector<SectorKey>& written, double step_ms, 
     }
     m.bodies(owned);
     m.awake(awake);
-    m.sectors(sectors);
+    m.sector_count(sectors);
     m.border_bodies(static_cast<std::uint32_t>(s.border_bodies));
     m.clones(static_cast<std::uint32_t>(s.clones));
     m.step_ms(static_cast<float>(step_ms));
@@ -433,8 +469,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         auto go = s.gos.find(s.frame + 1);
         if (go == s.gos.end()) {
             if (!s.world && Clock::now() - started > s.options.coordinator_wait) {
-                spdlog::error("worker {}: no coordinator found on domain {} within {} s", id, s.participant->domain(),
-                              s.options.coordinator_wait.count() / 1000);
+                spdlog::error("worker {}: no coordinator found on domain {} within {} s", id,
+                              s.participant->domain(), s.options.coordinator_wait.count() / 1000);
                 return 3;
             }
             s.inbox.wait(std::chrono::milliseconds(50));
@@ -453,8 +489,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         while (!s.border_data_ready(s.frame - 1) && !stop.load()) {
             if (Clock::now() - wait_start > s.options.border_wait) {
                 ++s.degraded;
-                spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded)", id, s.frame,
-                             s.frame - 1);
+                spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded)", id,
+                             s.frame, s.frame - 1);
                 break;
             }
             s.inbox.wait(std::chrono::milliseconds(5));
@@ -466,9 +502,9 @@ int Worker::run(const std::atomic<bool>& stop) {
         const auto step_start = Clock::now();
         s.world->step();
         const double step_ms = ms_since(step_start);
-        const bool full = s.frame == 1 || s.frames_out->take_new_matches() > 0;
+        const bool full = s.frame == 1;  // the first frame: every sector
         const std::vector<SectorKey> written = s.publish(full);
-        s.mark(written, step_ms, wait_ms);
+        s.mark(written, full, step_ms, wait_ms);
         // Forget what no longer matters: marks of frames before the previous one.
         for (auto it = s.marks.begin(); it != s.marks.end();) {
             it = it->first.second + 1 < s.frame ? s.marks.erase(it) : std::next(it);

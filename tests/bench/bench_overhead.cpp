@@ -66,7 +66,8 @@ void run_overhead(const Context& context) {
     }
     std::string md =
         "Bodies in a lattice 1.2 apart drifting at up to 1 unit/s without gravity, measured after 60 frames "
-        "(about half of them near a border with L = 8). ms_per_frame: Google Benchmark; the stage split is the "
+        "(about half of them near a border with L = 8). ms_per_frame: Google Benchmark; the stage split is "
+        "the "
         "engine's own clock over the same "
         "frames. overhead_fraction = (sectorize + clone) / (sectorize + clone + step); target: under "
         "0.05.\n\n" +

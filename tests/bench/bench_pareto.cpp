@@ -84,9 +84,9 @@ void run_pareto(const Context& context) {
                 if (kind.name != "two_spheres") error /= static_cast<double>(got.size());  // mean per body
                 const bool collided = kind.name != "two_spheres" || far.body(1)->linear_velocity.x() < 0.0;
                 // The same run the error was measured on, from a fresh world each time.
-                const double ms = ms_per_frame_fresh(fmt::format("pareto/{}/{}", kind.name, config.label()),
-                                                     [&] { return make_world(scene, config.options()); }, kind.frames,
-                                                     0.05);
+                const double ms = ms_per_frame_fresh(
+                    fmt::format("pareto/{}/{}", kind.name, config.label()),
+                    [&] { return make_world(scene, config.options()); }, kind.frames, 0.05);
                 table.add({kind.name, "x", num(d, 17), config.name, num(config.sector_size), num(error, 6),
                            num(ms, 4), collided ? "1" : "0", placement});
             }
@@ -100,7 +100,8 @@ void run_pareto(const Context& context) {
         "at the origin (two spheres: summed distance after 3 s; stack: mean over boxes after 10 s; pile: "
         "mean over "
         "bodies after 0.5 s of falling, a chaotic scene where small differences grow). ms_per_frame: Google "
-        "Benchmark. Distances are offset from round numbers (1e3 + 0.7 ... 1e13 + 37.3) so that no run sits on a sector multiple; the last is placed by sector position.\n\n" +
+        "Benchmark. Distances are offset from round numbers (1e3 + 0.7 ... 1e13 + 37.3) so that no run sits "
+        "on a sector multiple; the last is placed by sector position.\n\n" +
         table.markdown({"scene", "distance", "config", "sector_size", "error", "ms_per_frame", "collided"});
     std::string plot =
         "set multiplot layout 1,3 title 'Error against cost (point shape: distance; colour: "

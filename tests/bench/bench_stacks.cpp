@@ -58,8 +58,9 @@ void run_stacks(const Context& context) {
                 const double drift = (top - Eigen::Vector3d(0, boxes - 0.5, 0)).norm();
                 const bool stands = top.y() > boxes - 1.0 && std::isfinite(drift);
                 // The whole 10 s run (it falls asleep on the way), from a fresh world each time.
-                const double ms = ms_per_frame_fresh(fmt::format("stacks/{}/{}", config.label(), boxes),
-                                                     [&] { return make_world(scene, config.options()); }, 600, 0.05);
+                const double ms = ms_per_frame_fresh(
+                    fmt::format("stacks/{}/{}", config.label(), boxes),
+                    [&] { return make_world(scene, config.options()); }, 600, 0.05);
                 table.add({config.name, num(config.sector_size), std::to_string(boxes), num(d, 17), placement,
                            num(drift, 4), num(top.y(), 5), stands ? "1" : "0", num(ms, 4)});
                 if (boxes == 10 && outlines) {
@@ -95,7 +96,8 @@ void run_stacks(const Context& context) {
     const std::vector<Config> configs = comparison_configs();
     std::string plot = fmt::format(
         "set multiplot layout {},{} title 'Side view of the 10-box stacks after 10 s "
-        "(columns: distance from the origin)'\nset datafile separator whitespace\nset size ratio -1\nunset key\nset xrange "
+        "(columns: distance from the origin)'\nset datafile separator whitespace\nset size ratio -1\nunset "
+        "key\nset xrange "
         "[-6:6]\nset yrange [-1:11]\nset xtics 5 font ',7'\nset ytics 5 font ',7'\n",
         configs.size(), distances.size());
     std::map<std::string, int> next_index;

@@ -151,12 +151,15 @@ namespace {
 
 TEST(Assignment, EverySectorHasOneOwnerAndRangesAreBalanced) {
     std::vector<std::pair<SectorKey, double>> loads;
-    for (int i = -20; i < 20; ++i) loads.push_back({{i, 0, 3}, 10.0});
+    for (int i = -20; i < 20; ++i)
+        loads.push_back({{i, 0, 3}, 10.0});
     SectorAssignment a = SectorAssignment::balanced(loads, {1, 2, 3}, 4);
     std::map<std::uint32_t, double> load;
-    for (const auto& [sector, l] : loads) load[a.owner_of(sector)] += l;
+    for (const auto& [sector, l] : loads)
+        load[a.owner_of(sector)] += l;
     ASSERT_EQ(load.size(), 3u);
-    for (const auto& [worker, l] : load) EXPECT_NEAR(l, 400.0 / 3.0, 45.0) << "worker " << worker;
+    for (const auto& [worker, l] : load)
+        EXPECT_NEAR(l, 400.0 / 3.0, 45.0) << "worker " << worker;
     // Sectors nobody uses, anywhere on the grid, still have an owner among the workers.
     for (SectorKey s : {SectorKey{kMaxSectorIndex, -kMaxSectorIndex, 0}, SectorKey{-5, 99, 1000000}}) {
         std::uint32_t w = a.owner_of(s);

@@ -67,7 +67,8 @@ TEST(Wire, LateJoinerAndRegionFilter) {
     ASSERT_TRUE(eventually([&] {
         all.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
             if (!info.valid_data) return;
-            for (const auto& b : f.bodies()) seen[b.id()] = from_wire(b, from_wire(f.sector()));
+            for (const auto& b : f.bodies())
+                seen[b.id()] = from_wire(b, from_wire(f.sector()));
         });
         region.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
             if (info.valid_data) in_region.push_back(f.bodies().front().id());

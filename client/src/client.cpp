@@ -1,0 +1,336 @@
+#include "lpss/client/client.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+
+namespace lpss {
+
+// A frame is complete when every worker of the current assignment has said it ended it, and for every
+// sector it owns (that this client follows) a sample from between the worker's stamp and this frame
+// arrived: the sector as it was at this frame. Samples are buffered by frame and
+// applied in order, so a frame never shows a later frame's state of some sector. Every sample holds its
+// whole sector, so the durable last sample of each sector gives a late joiner the whole world.
+struct Client::State {
+    ClientOptions options;
+    std::unique_ptr<dds::Participant> participant;
+    dds::Inbox inbox;
+    std::unique_ptr<dds::Reader<wire::SectorFrame>> frames_in;
+    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
+    std::unique_ptr<dds::Reader<wire::Assignment>> assignment_in;
+    std::unique_ptr<dds::Reader<wire::BodyDescription>> descriptions_in;
+    std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;
+    std::unique_ptr<dds::Writer<wire::Command>> commands_out;
+
+    std::optional<SectorGrid> grid;
+    std::vector<std::uint32_t> workers;
+    std::unordered_map<BodyId, BodyDesc> descriptions;
+    std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
+    /// Per sector, the frames of the samples received (those applied are forgotten but the newest).
+    std::unordered_map<SectorKey, std::set<std::uint64_t>, SectorKeyHash> received;
+    /// (worker, frame) -> the sectors it owns (that this client follows) and the frame of each one's latest
+    /// sample
+    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<std::pair<SectorKey, std::uint64_t>>> marks;
+    std::set<std::uint64_t> marked_frames;
+    std::map<BodyId, BodyView> view;
+    std::uint64_t applied = 0;
+    std::optional<WorldFrame> latest;
+    std::function<void(const WorldFrame&)> callback;
+    std::map<std::uint64_t, CommandOutcome> outcomes;
+    std::uint64_t next_request = 1;
+
+    bool follows(const SectorKey& key) const { return !options.region || options.region->contains(key); }
+    void take();
+    bool complete(std::uint64_t frame) const;
+    void apply_until(std::uint64_t frame);
+    WorldFrame frame_view(std::uint64_t frame) const;
+    std::uint64_t send(wire::Command command);
+};
+
+Client::Client(std::unique_ptr<State> state) : state_(std::move(state)) {}
+
+Client::~Client() {
+    if (!state_) return;
+    state_->frames_in.reset();
+    state_->marks_in.reset();
+    state_->assignment_in.reset();
+    state_->descriptions_in.reset();
+    state_->results_in.reset();
+    state_->commands_out.reset();
+}
+
+Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) {
+    if (options.name.empty()) return Error{"a client needs a name (its commands carry it)"};
+    auto state = std::make_unique<State>();
+    state->options = options;
+    Expected<std::unique_ptr<dds::Participant>> participant =
+        dds::Participant::create(options.domain, options.profile, "lpss-client-" + options.name);
+    if (!participant) return participant.error();
+    state->participant = std::move(participant).value();
+    dds::Participant& p = *state->participant;
+    using namespace dds;
+    fdds::TopicDescription* frames = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
+    if (options.region) {
+        const std::int64_t lo[3] = {options.region->lo.i, options.region->lo.j, options.region->lo.k};
+        const std::int64_t hi[3] = {options.region->hi.i, options.region->hi.j, options.region->hi.k};
+        frames = p.sector_region(kSectorFrames, lo, hi);
+        if (frames == nullptr) return Error{"cannot create the region filter"};
+    }
+    state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(p, frames, reader_qos(kSectorFrameReading),
+                                                                   &state->inbox);
+    state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
+        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
+    state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
+        p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
+    state->descriptions_in = std::make_unique<Reader<wire::BodyDescription>>(
+        p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
+        &state->inbox);
+    state->results_in = std::make_unique<Reader<wire::CommandResult>>(
+        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), reader_qos(kCommandDelivery),
+        &state->inbox);
+    state->commands_out = std::make_unique<Writer<wire::Command>>(
+        p, p.topic<wire::CommandPubSubType>(kCommands), writer_qos(kCommandDelivery));
+    if (!state->frames_in->ok() || !state->marks_in->ok() || !state->assignment_in->ok() ||
+        !state->descriptions_in->ok() || !state->results_in->ok() || !state->commands_out->ok()) {
+        return Error{"cannot create the client's DDS readers and writers"};
+    }
+    return std::unique_ptr<Client>(new Client(std::move(state)));
+}
+
+void Client::State::take() {
+    assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data) return;
+        grid = SectorGrid(a.settings().sector_size());
+        workers = a.workers();
+    });
+    descriptions_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data) {
+            descriptions[d.id()] = dds::from_wire(d);
+            return;
+        }
+        // Disposed: the body was removed.
+        wire::BodyDescription key;
+        if (descriptions_in->raw()->get_key_value(&key, info.instance_handle) ==
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+            descriptions.erase(key.id());
+            view.erase(key.id());
+        }
+    });
+    marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data || m.frame() == 0) return;
+        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+        for (const wire::SectorStamp& st : m.sectors()) {
+            const SectorKey key = dds::from_wire(st.sector());
+            if (follows(key)) stamps.emplace_back(key, st.frame());
+        }
+        marks[{m.worker(), m.frame()}] = std::move(stamps);
+        marked_frames.insert(m.frame());
+    });
+    frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data) return;
+        received[dds::from_wire(f.sector())].insert(f.frame());
+        pending[f.frame()].push_back(f);
+    });
+    results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data || r.client() != options.name) return;
+        outcomes[r.request()] = CommandOutcome{r.applied(), r.order(), r.frame(), r.reason()};
+    });
+}
+
+bool Client::State::complete(std::uint64_t frame) const {
+    if (workers.empty() || !grid) return false;
+    for (std::uint32_t w : workers) {
+        auto it = marks.find({w, frame});
+        if (it == marks.end()) return false;
+        // A sample of each sector from between its stamp and this frame: that sector's state at this frame.
+        for (const auto& [key, stamp] : it->second) {
+            auto seen = received.find(key);
+            if (seen == received.end()) return false;
+            auto at = seen->second.upper_bound(frame);
+            if (at == seen->second.begin() || *std::prev(at) < stamp) return false;
+        }
+    }
+    return true;
+}
+
+void Client::State::apply_until(std::uint64_t frame) {
+    std::unordered_map<BodyId, SectorKey> where;
+    for (const auto& [id, b] : view)
+        where[id] = b.position.sector;
+    while (!pending.empty() && pending.begin()->first <= frame) {
+        for (const wire::SectorFrame& f : pending.begin()->second) {
+            const SectorKey key = dds::from_wire(f.sector());
+            for (const wire::BodyState& state : f.bodies()) {
+                const BodySnapshot b = dds::from_wire(state, key);
+                BodyView& v = view[b.id];
+                v.id = b.id;
+                v.position = b.position;
+                v.orientation = b.orientation;
+                v.linear_velocity = b.linear_velocity;
+                v.angular_velocity = b.angular_velocity;
+                v.awake = b.awake;
+                where[b.id] = key;
+            }
+            // A body that left this sector is gone from view unless another sector now holds it.
+            for (BodyId id : f.departed()) {
+                auto it = where.find(id);
+                if (it != where.end() && it->second == key) {
+                    view.erase(id);
+                    where.erase(it);
+                }
+            }
+        }
+        pending.erase(pending.begin());
+    }
+    // Received frames already applied matter only as the newest of each sector.
+    for (auto& [key, frames] : received) {
+        auto keep = frames.upper_bound(frame);
+        if (keep != frames.begin()) frames.erase(frames.begin(), std::prev(keep));
+    }
+}
+
+WorldFrame Client::State::frame_view(std::uint64_t frame) const {
+    WorldFrame out;
+    out.frame = frame;
+    for (const auto& [id, v] : view) {
+        BodyView b = v;
+        b.global = grid->to_global(b.position);
+        out.bodies.push_back(b);
+    }
+    // Planes are not in any sector's frames (each worker holds its own instances): from descriptions.
+    for (const auto& [id, d] : descriptions) {
+        if (!is_plane(d.shape)) continue;
+        BodyView b;
+        b.id = id;
+        b.position = std::get<SectorPosition>(d.position);
+        if (!follows(b.position.sector)) continue;
+        b.orientation = d.orientation;
+        b.global = grid->to_global(b.position);
+        out.bodies.push_back(b);
+    }
+    std::sort(out.bodies.begin(), out.bodies.end(),
+              [](const BodyView& a, const BodyView& b) { return a.id < b.id; });
+    return out;
+}
+
+std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
+    State& s = *state_;
+    if (wait.count() > 0) s.inbox.wait(wait);
+    s.take();
+    std::vector<WorldFrame> out;
+    // Frames complete in order; an older frame still incomplete when a newer one is complete never will
+    // be (a late joiner finds only the last few frames' marks of each worker): it is skipped.
+    std::uint64_t newest_complete = 0;
+    for (std::uint64_t f : s.marked_frames) {
+        if (f > s.applied && s.complete(f)) newest_complete = f;
+    }
+    for (auto it = s.marked_frames.begin(); it != s.marked_frames.end() && *it <= newest_complete;) {
+        const std::uint64_t f = *it;
+        it = s.marked_frames.erase(it);
+        if (f <= s.applied || !s.complete(f)) continue;
+        s.apply_until(f);
+        s.applied = f;
+        out.push_back(s.frame_view(f));
+    }
+    for (auto it = s.marks.begin(); it != s.marks.end();)
+        it = it->first.second <= s.applied ? s.marks.erase(it) : std::next(it);
+    for (const WorldFrame& f : out) {
+        if (s.callback) s.callback(f);
+    }
+    if (!out.empty()) s.latest = out.back();
+    return out;
+}
+
+bool Client::wait_for_cluster(std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!state_->grid && std::chrono::steady_clock::now() < end) {
+        state_->inbox.wait(std::chrono::milliseconds(20));
+        state_->take();
+    }
+    return state_->grid.has_value();
+}
+
+void Client::on_frame(std::function<void(const WorldFrame&)> callback) {
+    state_->callback = std::move(callback);
+}
+const std::optional<WorldFrame>& Client::latest() const { return state_->latest; }
+std::optional<SectorGrid> Client::grid() const { return state_->grid; }
+
+std::optional<BodyDesc> Client::description(BodyId id) const {
+    auto it = state_->descriptions.find(id);
+    if (it == state_->descriptions.end()) return std::nullopt;
+    return it->second;
+}
+
+std::uint64_t Client::State::send(wire::Command command) {
+    const std::uint64_t request = next_request++;
+    command.client(options.name);
+    command.request(request);
+    commands_out->write(command);
+    return request;
+}
+
+std::uint64_t Client::spawn(const BodyDesc& body) {
+    wire::Command c;
+    c.kind(0);
+    c.body(body.id);
+    BodySnapshot at;
+    at.orientation = body.orientation;
+    at.linear_velocity = body.linear_velocity;
+    at.angular_velocity = body.angular_velocity;
+    if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position)) {
+        at.position.local = *g;  // a global position travels in the offset field, flagged as such
+        c.spawn_global(true);
+    } else {
+        at.position = std::get<SectorPosition>(body.position);
+    }
+    c.spawn(dds::describe(body, at, 0));
+    return state_->send(c);
+}
+
+std::uint64_t Client::remove(BodyId id) {
+    wire::Command c;
+    c.kind(1);
+    c.body(id);
+    return state_->send(c);
+}
+
+std::uint64_t Client::apply_impulse(BodyId id, const Eigen::Vector3d& impulse,
+                                    const Eigen::Vector3d& offset) {
+    wire::Command c;
+    c.kind(2);
+    c.body(id);
+    c.vector1(dds::to_wire(impulse));
+    c.vector2(dds::to_wire(offset));
+    return state_->send(c);
+}
+
+std::uint64_t Client::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+    wire::Command c;
+    c.kind(3);
+    c.body(id);
+    c.vector1(dds::to_wire(linear));
+    c.vector2(dds::to_wire(angular));
+    return state_->send(c);
+}
+
+std::optional<CommandOutcome> Client::outcome(std::uint64_t request) const {
+    auto it = state_->outcomes.find(request);
+    if (it == state_->outcomes.end()) return std::nullopt;
+    return it->second;
+}
+
+std::optional<CommandOutcome> Client::wait_outcome(std::uint64_t request, std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!outcome(request) && std::chrono::steady_clock::now() < end)
+        poll(std::chrono::milliseconds(10));
+    return outcome(request);
+}
+
+}  // namespace lpss

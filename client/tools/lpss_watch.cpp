@@ -1,0 +1,113 @@
+// lpss-watch: follows a running lpss world (whole, or a region) and prints it live, or writes the
+// body-state CSV of lpss-sim for every frame it sees.
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include "lpss/client/client.hpp"
+#include "lpss/common/state_csv.hpp"
+
+namespace {
+
+lpss::Expected<lpss::Region> parse_region(const std::string& text) {
+    std::istringstream in(text);
+    std::int64_t v[6];
+    char comma = 0;
+    for (int n = 0; n < 6; ++n) {
+        if (!(in >> v[n]) || (n < 5 && (!(in >> comma) || comma != ','))) {
+            return lpss::Error{"--region wants six sector indices: i_lo,i_hi,j_lo,j_hi,k_lo,k_hi; got '" +
+                               text + "'"};
+        }
+    }
+    if (v[0] > v[1] || v[2] > v[3] || v[4] > v[5])
+        return lpss::Error{"--region: each low index must be <= its high"};
+    return lpss::Region{{v[0], v[2], v[4]}, {v[1], v[3], v[5]}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"lpss-watch: prints a running lpss world, or writes it as CSV"};
+    lpss::ClientOptions options;
+    options.name = "lpss-watch";
+    std::string region, csv_path;
+    std::uint64_t frames = 0;
+    int wait_s = 30;
+    app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
+    app.add_option("--profile", options.profile,
+                   "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--region", region, "follow only sectors i_lo,i_hi,j_lo,j_hi,k_lo,k_hi");
+    app.add_option("--csv", csv_path, "write every body of every frame as CSV to this file ('-': stdout)");
+    app.add_option("--frames", frames, "exit after this many frames (0: until Ctrl-C)");
+    app.add_option("--wait-s", wait_s, "how long to wait for a cluster");
+    CLI11_PARSE(app, argc, argv);
+    if (!region.empty()) {
+        auto r = parse_region(region);
+        if (!r) {
+            std::fprintf(stderr, "lpss-watch: %s\n", r.error().message.c_str());
+            return 2;
+        }
+        options.region = r.value();
+    }
+    auto client = lpss::Client::connect(options);
+    if (!client) {
+        std::fprintf(stderr, "lpss-watch: cannot start: %s\n", client.error().message.c_str());
+        return 2;
+    }
+    if (!(*client)->wait_for_cluster(std::chrono::seconds(wait_s))) {
+        std::fprintf(stderr, "lpss-watch: no lpss cluster found on domain %d within %d s\n", options.domain,
+                     wait_s);
+        return 3;
+    }
+    std::FILE* csv = nullptr;
+    if (!csv_path.empty()) {
+        csv = csv_path == "-" ? stdout : std::fopen(csv_path.c_str(), "w");
+        if (csv == nullptr) {
+            std::fprintf(stderr, "lpss-watch: cannot write %s\n", csv_path.c_str());
+            return 2;
+        }
+        lpss::write_state_csv_header(csv);
+    }
+    const lpss::SectorGrid grid = *(*client)->grid();
+    std::uint64_t seen = 0;
+    auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(2);
+    auto last_data = std::chrono::steady_clock::now();
+    while (frames == 0 || seen < frames) {
+        std::vector<lpss::WorldFrame> got = (*client)->poll(std::chrono::milliseconds(100));
+        if (!got.empty()) last_data = std::chrono::steady_clock::now();
+        if (std::chrono::steady_clock::now() - last_data > std::chrono::seconds(wait_s)) {
+            std::fprintf(stderr, "lpss-watch: no frame for %d s: the cluster is gone\n", wait_s);
+            break;
+        }
+        for (const lpss::WorldFrame& f : got) {
+            ++seen;
+            if (csv) {
+                for (const lpss::BodyView& b : f.bodies) {
+                    lpss::BodySnapshot s{
+                        b.id, b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.awake};
+                    lpss::write_state_csv_row(csv, f.frame, s, grid);
+                }
+            } else if (std::chrono::steady_clock::now() - last_print > std::chrono::seconds(1)) {
+                last_print = std::chrono::steady_clock::now();
+                std::size_t awake = 0;
+                for (const auto& b : f.bodies)
+                    awake += b.awake ? 1 : 0;
+                fmt::print("frame {:>8}  bodies {:>7}  awake {:>7}\n", f.frame, f.bodies.size(), awake);
+                for (std::size_t n = 0; n < std::min<std::size_t>(f.bodies.size(), 5); ++n) {
+                    const auto& b = f.bodies[n];
+                    fmt::print("    {:>8} x=({:.6f}, {:.6f}, {:.6f}) sector ({}, {}, {})\n", b.id,
+                               b.global.x(), b.global.y(), b.global.z(), b.position.sector.i,
+                               b.position.sector.j, b.position.sector.k);
+                }
+                std::fflush(stdout);
+            }
+            if (frames != 0 && seen >= frames) break;
+        }
+    }
+    if (csv && csv != stdout) std::fclose(csv);
+    return 0;
+}

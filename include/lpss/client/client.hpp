@@ -1,0 +1,100 @@
+// lpss::Client: reads an lpss world over DDS, whole or a region, in double-precision global coordinates,
+// one consistent frame at a time, and sends commands. No DDS types here: link lpss::client and include
+// this header.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lpss/common/body_desc.hpp"
+#include "lpss/common/expected.hpp"
+#include "lpss/common/sector_grid.hpp"
+
+namespace lpss {
+
+/// Sectors with indices in [lo, hi] on each axis.
+struct Region {
+    SectorKey lo;
+    SectorKey hi;
+    bool contains(const SectorKey& k) const {
+        return k.i >= lo.i && k.i <= hi.i && k.j >= lo.j && k.j <= hi.j && k.k >= lo.k && k.k <= hi.k;
+    }
+};
+
+struct ClientOptions {
+    int domain = 0;
+    std::string profile;             ///< Fast DDS XML profile; empty: the built-in local one
+    std::string name = "client";     ///< names this client's commands
+    std::optional<Region> region;    ///< follow only these sectors (filtered by DDS); the whole world if empty
+};
+
+/// One body in a frame.
+struct BodyView {
+    BodyId id = 0;
+    SectorPosition position;  ///< exact
+    Eigen::Vector3d global = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+    bool awake = false;
+};
+
+/// Every body (of the region) after one frame, ordered by id.
+struct WorldFrame {
+    std::uint64_t frame = 0;
+    std::vector<BodyView> bodies;
+};
+
+/// What became of a command.
+struct CommandOutcome {
+    bool applied = false;
+    std::uint64_t order = 0;  ///< the order commands are applied in, across all clients
+    std::uint64_t frame = 0;  ///< the frame it was applied at (or would have been)
+    std::string reason;       ///< why it was refused
+};
+
+class Client {
+public:
+    /// Joins the domain. Refused with the reason when the profile is unreadable or DDS cannot start.
+    static Expected<std::unique_ptr<Client>> connect(const ClientOptions& options);
+    ~Client();
+
+    /// Waits up to `limit` for a running cluster (its sector assignment). False if none appeared.
+    bool wait_for_cluster(std::chrono::milliseconds limit);
+    /// Takes what arrived, waiting up to `wait` for it, and returns every frame that became complete, in
+    /// order (also passed to the on_frame callback).
+    std::vector<WorldFrame> poll(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
+    /// Called from poll() with each complete frame.
+    void on_frame(std::function<void(const WorldFrame&)> callback);
+    /// The newest complete frame, if any.
+    const std::optional<WorldFrame>& latest() const;
+    /// What a body is (shape, mass, material), from the cluster's durable descriptions.
+    std::optional<BodyDesc> description(BodyId id) const;
+    /// The grid of the world (its sector size), once a cluster is seen.
+    std::optional<SectorGrid> grid() const;
+
+    /// Commands: each returns a request number; outcome() tells what became of it.
+    std::uint64_t spawn(const BodyDesc& body);
+    std::uint64_t remove(BodyId id);
+    std::uint64_t apply_impulse(BodyId id, const Eigen::Vector3d& impulse,
+                                const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
+    std::uint64_t set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
+    std::optional<CommandOutcome> outcome(std::uint64_t request) const;
+    /// Polls until the outcome of `request` arrives or `limit` passes.
+    std::optional<CommandOutcome> wait_outcome(std::uint64_t request, std::chrono::milliseconds limit);
+
+    struct State;
+
+private:
+    explicit Client(std::unique_ptr<State> state);
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace lpss

@@ -1,0 +1,190 @@
+// lpss-cluster: the main job. Starts a coordinator and N workers on this machine as child processes,
+// runs a scene, prints a live summary (frame rate, bodies, sectors per worker, handoffs), and on Ctrl-C
+// or at the end stops every child cleanly.
+#include <fmt/format.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "child_process.hpp"
+#include "lpss/common/scene.hpp"
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+#include "stop_signal.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using lpss::runtime::ChildProcess;
+
+std::filesystem::path own_directory() {
+    std::error_code error;
+    std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+    return error ? std::filesystem::current_path() : self.parent_path();
+}
+
+/// What the workers said about their latest frame.
+struct WorkerSeen {
+    std::uint64_t frame = 0;
+    std::uint32_t bodies = 0, awake = 0, sectors = 0, clones = 0, degraded = 0;
+    float step_ms = 0, wait_ms = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"lpss-cluster: runs a scene on a coordinator and N workers on this machine"};
+    std::string scene_path, profile, log_dir;
+    std::uint32_t workers = 2;
+    std::uint64_t frames = 0;
+    bool realtime = false, quiet = false;
+    int domain = 0, threads = 1;
+    app.add_option("scene", scene_path, "scene file (Protobuf text format)")->required();
+    app.add_option("--workers", workers, "worker processes")->check(CLI::Range(1u, 256u));
+    app.add_option("--frames", frames, "frames to run (0: until Ctrl-C)");
+    app.add_flag("--realtime", realtime, "pace frames at the scene's dt");
+    app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
+    app.add_option("--profile", profile,
+                   "Fast DDS XML profile for every process (default: built-in, this machine only)");
+    app.add_option("--threads", threads, "threads per worker")->check(CLI::Range(1, 256));
+    app.add_option("--log-dir", log_dir, "where the children's logs go (default: a new folder under /tmp)");
+    app.add_flag("--quiet", quiet, "no live summary, only the final one");
+    CLI11_PARSE(app, argc, argv);
+
+    // Refuse a bad scene before starting anything.
+    if (auto scene = lpss::load_scene(scene_path); !scene) {
+        std::fprintf(stderr, "lpss-cluster: scene refused:\n%s\n", scene.error().message.c_str());
+        return 2;
+    }
+    if (!profile.empty() && access(profile.c_str(), R_OK) != 0) {
+        std::fprintf(stderr, "lpss-cluster: cannot read the DDS profile %s\n", profile.c_str());
+        return 2;
+    }
+    const auto& stop = lpss::runtime::install_stop_signal();
+    if (log_dir.empty())
+        log_dir =
+            (std::filesystem::temp_directory_path() / fmt::format("lpss-cluster-{}", getpid())).string();
+    std::filesystem::create_directories(log_dir);
+    const std::filesystem::path bin = own_directory();
+    const std::filesystem::path worker_program = bin / "lpss-worker";
+    const std::filesystem::path coordinator_program = bin / "lpss-coordinator";
+    for (const auto& p : {worker_program, coordinator_program}) {
+        if (access(p.c_str(), X_OK) != 0) {
+            std::fprintf(stderr, "lpss-cluster: %s is missing (build it beside lpss-cluster)\n", p.c_str());
+            return 2;
+        }
+    }
+    std::vector<std::string> common = {"--domain", std::to_string(domain)};
+    if (!profile.empty()) common.insert(common.end(), {"--profile", profile});
+
+    // The monitor joins first, so that it sees everything from the first frame.
+    auto participant = lpss::dds::Participant::create(domain, profile, "lpss-cluster");
+    if (!participant) {
+        std::fprintf(stderr, "lpss-cluster: cannot start DDS: %s\n", participant.error().message.c_str());
+        return 2;
+    }
+    lpss::dds::Inbox inbox;
+    auto marks = std::make_unique<lpss::dds::Reader<lpss::wire::WorkerFrame>>(
+        **participant, (*participant)->topic<lpss::wire::WorkerFramePubSubType>(lpss::dds::kWorkerFrames),
+        lpss::dds::reader_qos(lpss::dds::kFrameDelivery), &inbox);
+
+    std::vector<ChildProcess> children;
+    for (std::uint32_t w = 1; w <= workers; ++w) {
+        std::vector<std::string> args = common;
+        args.insert(args.end(), {"--id", std::to_string(w), "--threads", std::to_string(threads)});
+        auto child = ChildProcess::start(worker_program, args, log_dir + fmt::format("/worker-{}.log", w));
+        if (!child) {
+            std::fprintf(stderr, "lpss-cluster: cannot start worker %u\n", w);
+            return 2;
+        }
+        children.push_back(std::move(*child));
+    }
+    std::vector<std::string> args = common;
+    args.insert(args.end(),
+                {scene_path, "--workers", std::to_string(workers), "--frames", std::to_string(frames)});
+    if (realtime) args.push_back("--realtime");
+    auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
+    if (!coordinator) {
+        std::fprintf(stderr, "lpss-cluster: cannot start the coordinator\n");
+        return 2;
+    }
+    fmt::print("lpss-cluster: {} on {} worker(s), domain {}; logs in {}\n", scene_path, workers, domain,
+               log_dir);
+    std::fflush(stdout);
+
+    std::map<std::uint32_t, WorkerSeen> seen;
+    std::uint64_t handoffs = 0, first_frame = 0, last_frame = 0;
+    const auto start = Clock::now();
+    auto last_print = start;
+    auto first_time = start;
+    std::uint64_t printed_frame = 0;
+    auto print = [&](bool final) {
+        std::uint32_t bodies = 0, degraded = 0;
+        std::string per_worker;
+        for (const auto& [w, s] : seen) {
+            bodies += s.bodies;
+            degraded += s.degraded;
+            per_worker += fmt::format(" {}:{}", w, s.sectors);
+        }
+        const double elapsed = std::chrono::duration<double>(Clock::now() - last_print).count();
+        const double rate =
+            final ? (last_frame - first_frame) /
+                        std::max(1e-9, std::chrono::duration<double>(Clock::now() - first_time).count())
+                  : (last_frame - printed_frame) / std::max(1e-9, elapsed);
+        fmt::print(
+            "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  handoffs {}  degraded {}\n",
+            final ? "done: " : "", last_frame, rate, bodies, per_worker, handoffs, degraded);
+        std::fflush(stdout);
+        printed_frame = last_frame;
+        last_print = Clock::now();
+    };
+    int exit_code = 0;
+    bool stopping = false;
+    while (true) {
+        inbox.wait(std::chrono::milliseconds(100));
+        marks->take_all([&](const lpss::wire::WorkerFrame& m, const lpss::dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || m.frame() == 0) return;
+            WorkerSeen& s = seen[m.worker()];
+            if (m.frame() <= s.frame) return;
+            s = WorkerSeen{m.frame(),  m.bodies(),   m.awake(),   m.sector_count(),
+                           m.clones(), m.degraded(), m.step_ms(), m.wait_ms()};
+            handoffs += m.leaving().size();
+            if (first_frame == 0) {
+                first_frame = m.frame();
+                first_time = Clock::now();
+            }
+            last_frame = std::max(last_frame, m.frame());
+        });
+        if (!quiet && Clock::now() - last_print > std::chrono::seconds(1)) print(false);
+        if (!coordinator->running()) {
+            exit_code = coordinator->exit_code().value_or(1);
+            break;
+        }
+        if (stop.load() && !stopping) {
+            // Ctrl-C: the coordinator tells the workers to stop after the current frame.
+            stopping = true;
+            fmt::print("lpss-cluster: stopping\n");
+            exit_code = coordinator->stop(std::chrono::seconds(10));
+            if (exit_code == 128 + 15) exit_code = 0;
+            break;
+        }
+    }
+    // Workers end on the coordinator's stop; those that do not are stopped.
+    for (ChildProcess& c : children) {
+        if (!c.wait(std::chrono::seconds(5))) c.stop();
+        const int code = c.exit_code().value_or(0);
+        if (code != 0 && exit_code == 0 && !stopping) exit_code = code;
+    }
+    marks.reset();
+    print(true);
+    if (exit_code != 0) {
+        fmt::print(stderr, "lpss-cluster: a process failed (exit {}); see the logs in {}\n", exit_code,
+                   log_dir);
+    }
+    return exit_code;
+}
