@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
     std::uint32_t workers = 2;
     std::uint64_t frames = 0;
     bool realtime = false, quiet = false;
+    std::int64_t block_size = 4;
+    std::uint64_t rebalance_every = 300;
     int domain = 0, threads = 1;
     app.add_option("scene", scene_path, "scene file (Protobuf text format)")->required();
     app.add_option("--workers", workers, "worker processes")->check(CLI::Range(1u, 256u));
@@ -54,6 +56,10 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "threads per worker")->check(CLI::Range(1, 256));
     app.add_option("--log-dir", log_dir, "where the children's logs go (default: a new folder under /tmp)");
     app.add_flag("--quiet", quiet, "no live summary, only the final one");
+    app.add_option("--block-size", block_size, "sectors per block edge in assignments")
+        ->check(CLI::Range(1, 1 << 20));
+    app.add_option("--rebalance-every", rebalance_every,
+                   "frames between load checks (0: never move sectors)");
     CLI11_PARSE(app, argc, argv);
 
     // Refuse a bad scene before starting anything.
@@ -105,8 +111,9 @@ int main(int argc, char** argv) {
         children.push_back(std::move(*child));
     }
     std::vector<std::string> args = common;
-    args.insert(args.end(),
-                {scene_path, "--workers", std::to_string(workers), "--frames", std::to_string(frames)});
+    args.insert(args.end(), {scene_path, "--workers", std::to_string(workers), "--frames",
+                             std::to_string(frames), "--block-size", std::to_string(block_size),
+                             "--rebalance-every", std::to_string(rebalance_every)});
     if (realtime) args.push_back("--realtime");
     auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
     if (!coordinator) {

@@ -28,7 +28,7 @@ Role role_of(const btCollisionObject* object) { return static_cast<Role>(object-
 
 }  // namespace
 
-void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
+void World::Impl::track_position(BodyRecord& rec, double dt) const {
     const Sector& sector = *rec.sector;
     btTransform& transform = rec.rb->getWorldTransform();
     const btVector3 moved = transform.getOrigin();
@@ -42,14 +42,18 @@ void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
     // displacement is taken as it is. The float position is then the double one, rounded once, so
     // rounding never accumulates over frames in free flight.
     const btVector3& velocity = rec.rb->getLinearVelocity();
+    const btScalar step = static_cast<btScalar>(dt);  // what Bullet stepped by
     const btVector3 start = sector.to_physics(rec.local);
     for (int a = 0; a < 3; ++a) {
         const btScalar before = start[a];
         const double displaced = static_cast<double>(moved[a]) - static_cast<double>(before);
-        const double by_velocity = static_cast<double>(velocity[a]) * static_cast<double>(dt);
+        // The motion over the true step: Bullet steps by dt rounded to btScalar, which would make a body
+        // at constant velocity drift by that rounding every frame. The comparison allows for both.
+        const double by_velocity = static_cast<double>(velocity[a]) * dt;
         const double spacing =
             static_cast<double>(std::numeric_limits<btScalar>::epsilon()) *
-            std::max(std::fabs(static_cast<double>(moved[a])), std::fabs(static_cast<double>(before)));
+                std::max(std::fabs(static_cast<double>(moved[a])), std::fabs(static_cast<double>(before))) +
+            std::fabs(static_cast<double>(velocity[a]) * (static_cast<double>(step) - dt));
         rec.local[a] += std::fabs(displaced - by_velocity) <= spacing ? by_velocity : displaced;
     }
     transform.setOrigin(sector.to_physics(rec.local));
@@ -58,7 +62,8 @@ void World::Impl::track_position(BodyRecord& rec, btScalar dt) const {
 
 void World::Impl::step_sectors() {
     const int substeps = settings.substeps_per_frame();
-    const btScalar dt = static_cast<btScalar>(settings.dt / substeps);
+    const double substep = settings.dt / substeps;
+    const btScalar dt = static_cast<btScalar>(substep);
     pool.run(step_set.size(), [&](std::size_t index, int worker) {
         Sector& sector = *step_set[index];
         for (int n = 0; n < substeps; ++n) {
@@ -66,7 +71,7 @@ void World::Impl::step_sectors() {
             // Every dynamic original, not only the awake ones: a body that fell asleep during this step
             // still moved in it.
             for (std::uint32_t slot : sector.originals) {
-                if (bodies[slot].dynamic) track_position(bodies[slot], dt);
+                if (bodies[slot].dynamic) track_position(bodies[slot], substep);
             }
         }
 

@@ -423,7 +423,12 @@ Status World::set_state(const BodySnapshot& state) {
         !state.linear_velocity.allFinite() || !state.angular_velocity.allFinite()) {
         return Error{describe_body(*rec.desc) + ": state is not finite"};
     }
-    Expected<SectorPosition> at = w.grid.canonical(state.position);
+    // The body goes to the sector given, as its owner keeps it (past the border by up to the hysteresis
+    // band): a ghost must not become this engine's own body by crossing a border its owner has not
+    // handed it over yet. Only an offset beyond a whole sector is brought back into its cell.
+    Expected<SectorPosition> at = state.position.local.cwiseAbs().maxCoeff() <= w.settings.sector_size
+                                      ? Expected<SectorPosition>(state.position)
+                                      : w.grid.canonical(state.position);
     if (!at) return Error{describe_body(*rec.desc) + ": " + at.error().message};
     w.place_body(slot, at.value(), state.orientation.normalized());
     btRigidBody& rb = *rec.rb;

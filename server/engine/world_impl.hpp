@@ -37,7 +37,7 @@ struct World::Impl {
     void sectorize(const std::vector<std::uint32_t>& candidates);
     void clone_stage(const std::vector<std::uint32_t>& candidates);
     void step_sectors();
-    void track_position(engine::BodyRecord& record, btScalar dt) const;
+    void track_position(engine::BodyRecord& record, double dt) const;
     void merge_contacts();
 
     // ---- sectors

@@ -135,7 +135,9 @@ void Worker::State::pump() {
         if (info.valid_data && go.frame() > frame) gos[go.frame()] = go;
     });
     descriptions_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;  // removals arrive as commands, in order
+        // Descriptions fill the world at the start; later bodies arrive as commands, in order, and
+        // removals too.
+        if (!info.valid_data || world) return;
         BodyDesc body = dds::from_wire(d);
         spdlog::debug("worker {}: description of body {}", options.id, body.id);
         if (!world) {
@@ -144,10 +146,6 @@ void Worker::State::pump() {
                 early_descriptions.end()) {
                 early_descriptions.push_back(body);
             }
-        } else if (!world->contains(body.id)) {
-            // A body that appeared while this worker ran (spawned bodies are added by their command).
-            if (Status st = world->add_body(body); !st)
-                spdlog::warn("worker {}: {}", options.id, st.error().message);
         }
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {

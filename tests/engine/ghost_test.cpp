@@ -13,7 +13,9 @@ using testing::make_world;
 constexpr double kL = 128.0;
 
 BodySnapshot as_on_the_wire(BodySnapshot b) {
-    b.position.local = b.position.local.cast<float>().cast<double>();
+    // Per component: Eigen folds cast<float>().cast<double>() into nothing.
+    for (int a = 0; a < 3; ++a)
+        b.position.local[a] = static_cast<double>(static_cast<float>(b.position.local[a]));
     return b;
 }
 

@@ -1,0 +1,86 @@
+// Running lpss-cluster from a test: each test on a DDS domain of its own, the whole test process (and so
+// its children) in a network namespace holding only loopback when the machine allows it (see main in
+// cluster_test_main.cpp), children stopped and logs kept under the test's temporary folder.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.hpp"
+#include "lpss/client/client.hpp"
+#include "lpss/common/scene.hpp"
+
+namespace lpss::testing {
+
+/// Writes a scene to a file of the test's own and returns its path.
+inline std::string write_scene(const Scene& scene, const std::string& name) {
+    const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) /
+                                       ("lpss_" + std::to_string(::getpid()) + "_" + name + ".textproto");
+    std::ofstream(path) << format_scene(scene);
+    return path.string();
+}
+
+struct ClusterRun {
+    std::optional<runtime::ChildProcess> process;
+    std::string log_dir;
+};
+
+/// Starts lpss-cluster on `domain` (--realtime unless `fast`), its logs in a folder of the test's own.
+inline ClusterRun start_cluster(const std::string& scene, int domain, int workers, std::uint64_t frames,
+                                std::vector<std::string> extra = {}, bool fast = false) {
+    ClusterRun run;
+    run.log_dir = (std::filesystem::path(::testing::TempDir()) /
+                   ("lpss_cluster_" + std::to_string(::getpid()) + "_" + std::to_string(domain)))
+                      .string();
+    std::vector<std::string> args = {scene,
+                                     "--workers",
+                                     std::to_string(workers),
+                                     "--frames",
+                                     std::to_string(frames),
+                                     "--domain",
+                                     std::to_string(domain),
+                                     "--quiet",
+                                     "--log-dir",
+                                     run.log_dir};
+    if (!fast) args.push_back("--realtime");
+    args.insert(args.end(), extra.begin(), extra.end());
+    run.process = runtime::ChildProcess::start(LPSS_CLUSTER, args, run.log_dir + ".out");
+    return run;
+}
+
+/// A client on `domain`, waiting for a cluster.
+inline std::unique_ptr<Client> connect(int domain, const std::string& name,
+                                       std::optional<Region> region = {}) {
+    ClientOptions o;
+    o.domain = domain;
+    o.name = name;
+    o.region = region;
+    auto client = Client::connect(o);
+    if (!client) {
+        ADD_FAILURE() << client.error().message;
+        return nullptr;
+    }
+    return std::move(client).value();
+}
+
+/// Polls until frame `last` has been seen (or the limit passes); returns every frame seen, by number.
+inline std::map<std::uint64_t, WorldFrame> collect(Client& client, std::uint64_t last,
+                                                   std::chrono::seconds limit = std::chrono::seconds(120)) {
+    std::map<std::uint64_t, WorldFrame> frames;
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
+        for (WorldFrame& f : client.poll(std::chrono::milliseconds(20)))
+            frames[f.frame] = std::move(f);
+    }
+    return frames;
+}
+
+}  // namespace lpss::testing

@@ -1,0 +1,386 @@
+// The distributed server as users run it: lpss-cluster with 1, 2 and 3 workers against lpss-sim, bodies
+// crossing worker borders for thousands of frames, late and regional clients, commands from two clients.
+// Each test uses a DDS domain of its own.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "cluster_harness.hpp"
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+#include "scenes.hpp"
+
+namespace lpss {
+namespace {
+
+using testing::collect;
+using testing::connect;
+using testing::start_cluster;
+using testing::write_scene;
+
+constexpr double kL = 128.0;
+const Eigen::IOFormat kFull(17);
+
+/// Bodies crossing the borders between sectors 0, 1 and 2 along x in both directions, and two spheres
+/// colliding exactly on the border between sectors 0 and 1. With block size 1 and 2 or 3 workers, those
+/// sectors belong to different workers.
+Scene crossing_scene() {
+    Scene scene = scenes::sphere_pair(Eigen::Vector3d(0.5 * kL, 0, 0), kL);
+    BodyDesc east = scenes::sphere_body(3, 0.5, 1.0, Eigen::Vector3d(40, 5, 0));
+    east.linear_velocity = Eigen::Vector3d(30, 0, 0);
+    BodyDesc west = scenes::sphere_body(4, 0.5, 1.0, Eigen::Vector3d(2.2 * kL, -5, 0));
+    west.linear_velocity = Eigen::Vector3d(-35, 0, 0.5);
+    BodyDesc box = scenes::box_body(5, Eigen::Vector3d(0.5, 0.5, 0.5), 2.0, Eigen::Vector3d(1.4 * kL, 3, 2));
+    box.linear_velocity = Eigen::Vector3d(-25, 0, 0);
+    box.angular_velocity = Eigen::Vector3d(0, 1, 0.3);
+    scene.bodies.push_back(east);
+    scene.bodies.push_back(west);
+    scene.bodies.push_back(box);
+    BodyDesc wall = scenes::box_body(6, Eigen::Vector3d(0.5, 20, 20), 0.0, Eigen::Vector3d(2.9 * kL, 0, 0));
+    scene.bodies.push_back(wall);
+    return scene;
+}
+
+struct SimRow {
+    SectorPosition position;
+    Eigen::Quaterniond orientation;
+};
+
+/// Runs lpss-sim on the scene and reads its CSV: frame -> id -> state.
+std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& scene, int frames) {
+    const std::string csv = scene + ".sim.csv";
+    const std::string command = std::string(LPSS_SIM) + " " + scene + " --frames " + std::to_string(frames) +
+                                " --csv " + csv + " 2>/dev/null";
+    EXPECT_EQ(std::system(command.c_str()), 0);
+    std::map<std::uint64_t, std::map<BodyId, SimRow>> out;
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        std::istringstream row(line);
+        std::vector<std::string> f;
+        for (std::string cell; std::getline(row, cell, ',');)
+            f.push_back(cell);
+        SimRow r;
+        r.orientation =
+            Eigen::Quaterniond(std::stod(f[8]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7]));
+        r.position = SectorPosition{{std::stoll(f[12]), std::stoll(f[13]), std::stoll(f[14])},
+                                    {std::stod(f[15]), std::stod(f[16]), std::stod(f[17])}};
+        out[std::stoull(f[0])][std::stoull(f[1])] = r;
+    }
+    return out;
+}
+
+void compare_with_sim(int workers, int domain) {
+    const Scene scene = crossing_scene();
+    const std::string path = write_scene(scene, "crossing" + std::to_string(workers));
+    constexpr int kFrames = 240;
+    auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1u);
+    auto client = connect(domain, "compare");
+    auto cluster = start_cluster(path, domain, workers, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    auto frames = collect(*client, kFrames);
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    ASSERT_FALSE(frames.empty());
+    EXPECT_GE(frames.size(), kFrames * 9 / 10) << "most frames complete at the client";
+    double worst = 0.0;
+    std::size_t bodies_compared = 0;
+    const SectorGrid grid(kL);
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
+        for (const BodyView& b : frame.bodies) {
+            const SimRow& want = expected.at(b.id);
+            // The wire carries offsets as floats: the engine's double offsets, rounded.
+            SectorPosition want_f = want.position;
+            for (int a = 0; a < 3; ++a)
+                want_f.local[a] = static_cast<double>(static_cast<float>(want.position.local[a]));
+            if (workers == 1) {
+                // One worker runs exactly the engine lpss-sim runs: equal to the last bit of the float sent.
+                EXPECT_EQ(b.position.sector, want_f.sector) << "frame " << f << " body " << b.id;
+                EXPECT_EQ((b.position.local - want_f.local).cwiseAbs().maxCoeff(), 0.0)
+                    << "frame " << f << " body " << b.id << " local "
+                    << b.position.local.transpose().format(kFull) << " lpss-sim "
+                    << want.position.local.transpose().format(kFull);
+            }
+            worst = std::max(worst, (grid.to_global(b.position) - grid.to_global(want.position)).norm());
+            ++bodies_compared;
+        }
+    }
+    // Several workers: bodies near a worker border are cloned from ghosts that carry float offsets (the
+    // wire), where one process clones from double positions: 4e-6 at most per axis for L = 128, grown by
+    // the collision response (about 25x, docs/protocol.md). 1e-3 bounds it with margin.
+    EXPECT_LE(worst, workers == 1 ? 1e-5 : 1e-3) << workers << " worker(s)";
+    ::testing::Test::RecordProperty("worst_difference", std::to_string(worst));
+    std::printf("%d worker(s): %zu body states in %zu frames, largest difference from lpss-sim %.3g\n",
+                workers, bodies_compared, frames.size(), worst);
+}
+
+TEST(Cluster, OneWorkerMatchesLpssSimBitForBit) { compare_with_sim(1, 120); }
+TEST(Cluster, TwoWorkersMatchLpssSim) { compare_with_sim(2, 121); }
+TEST(Cluster, ThreeWorkersMatchLpssSim) { compare_with_sim(3, 122); }
+
+/// Reads the wire directly, independently of lpss::Client: for every frame whose marks and samples are
+/// all in, each body must sit in exactly one sector.
+class MembershipCheck {
+public:
+    explicit MembershipCheck(int domain) {
+        auto p = dds::Participant::create(domain, "", "membership-check");
+        EXPECT_TRUE(p.ok());
+        participant_ = std::move(p).value();
+        auto& part = *participant_;
+        frames_ = std::make_unique<dds::Reader<wire::SectorFrame>>(
+            part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+            dds::reader_qos(dds::kSectorFrameReading), &inbox_);
+        marks_ = std::make_unique<dds::Reader<wire::WorkerFrame>>(
+            part, part.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames),
+            dds::reader_qos(dds::kFrameDelivery), &inbox_);
+    }
+    ~MembershipCheck() {
+        frames_.reset();
+        marks_.reset();
+    }
+
+    void poll() {
+        inbox_.wait(std::chrono::milliseconds(20));
+        frames_->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;
+            std::vector<BodyId> ids;
+            for (const auto& b : f.bodies())
+                ids.push_back(b.id());
+            samples_[dds::from_wire(f.sector())][f.frame()] = ids;
+        });
+        marks_->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || m.frame() == 0) return;
+            auto& stamps = marks_by_frame_[m.frame()][m.worker()];
+            for (const auto& s : m.sectors())
+                stamps.emplace_back(dds::from_wire(s.sector()), s.frame());
+        });
+        // Check every frame that all workers marked and whose stamped samples are all here.
+        for (auto it = marks_by_frame_.begin(); it != marks_by_frame_.end();) {
+            const std::uint64_t f = it->first;
+            if (it->second.size() < workers) break;
+            std::map<BodyId, int> seen;
+            bool all_here = true;
+            for (const auto& [worker, stamps] : it->second) {
+                for (const auto& [key, stamp] : stamps) {
+                    auto& by_frame = samples_[key];
+                    auto at = by_frame.upper_bound(f);
+                    if (at == by_frame.begin() || std::prev(at)->first < stamp) {
+                        all_here = false;
+                        break;
+                    }
+                    for (BodyId id : std::prev(at)->second)
+                        ++seen[id];
+                }
+            }
+            if (!all_here) break;
+            ++checked;
+            for (const auto& [id, n] : seen) {
+                if (n != 1) ++doubled;
+            }
+            if (seen.size() != expected_bodies) ++incomplete;
+            it = marks_by_frame_.erase(it);
+        }
+    }
+
+    std::size_t workers = 2;
+    std::size_t expected_bodies = 0;
+    std::size_t checked = 0, doubled = 0, incomplete = 0;
+
+private:
+    dds::Inbox inbox_;
+    std::unique_ptr<dds::Participant> participant_;
+    std::unique_ptr<dds::Reader<wire::SectorFrame>> frames_;
+    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_;
+    std::map<SectorKey, std::map<std::uint64_t, std::vector<BodyId>>> samples_;
+    std::map<std::uint64_t, std::map<std::uint32_t, std::vector<std::pair<SectorKey, std::uint64_t>>>>
+        marks_by_frame_;
+};
+
+TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
+    // Balls bouncing between walls 2.5 sectors apart, through the borders of three sectors owned by two
+    // workers, in both directions, for 2,000 frames.
+    Scene scene;
+    scene.settings.sector_size = 32;
+    scene.settings.sleeping = false;
+    for (int n = 0; n < 2; ++n) {
+        BodyDesc wall =
+            scenes::box_body(100 + n, Eigen::Vector3d(0.5, 10, 10), 0.0, Eigen::Vector3d(n ? 60 : -20, 0, 0));
+        wall.material = Material{0, 1};
+        scene.bodies.push_back(wall);
+    }
+    for (int n = 0; n < 8; ++n) {
+        BodyDesc ball = scenes::sphere_body(1 + n, 0.5, 1.0, Eigen::Vector3d(-10 + 7 * n, -8 + 2 * n, 0));
+        ball.linear_velocity = Eigen::Vector3d((n % 2 ? -1 : 1) * (25 + 4 * n), 0, 0);
+        ball.material = Material{0, 1};
+        scene.bodies.push_back(ball);
+    }
+    const int domain = 123;
+    const std::string path = write_scene(scene, "exactly_once");
+    MembershipCheck check(domain);
+    check.workers = 2;
+    check.expected_bodies = scene.bodies.size();
+    auto cluster = start_cluster(path, domain, 2, 2000, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    while (cluster.process->running())
+        check.poll();
+    for (int n = 0; n < 20; ++n)
+        check.poll();
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    EXPECT_GE(check.checked, 1900u) << "frames checked";
+    EXPECT_EQ(check.doubled, 0u);
+    EXPECT_EQ(check.incomplete, 0u);
+    std::printf("%zu frames checked: %zu with a body twice, %zu with a body missing\n", check.checked,
+                check.doubled, check.incomplete);
+    // The handoffs really happened.
+    std::ifstream summary(cluster.log_dir + ".out");
+    std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.find("handoffs 0 "), std::string::npos) << text;
+}
+
+TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
+    Scene scene = scenes::box_stack(Eigen::Vector3d(0, 0, 0), 4, kL);
+    for (int n = 0; n < 6; ++n) {
+        BodyDesc b = scenes::sphere_body(50 + n, 0.5, 1.0, Eigen::Vector3d(n * 1.5 * kL, 2, 0));
+        scene.bodies.push_back(b);
+    }
+    const int domain = 124;
+    const std::string path = write_scene(scene, "late");
+    auto cluster = start_cluster(path, domain, 2, 900);
+    ASSERT_TRUE(cluster.process);
+    std::this_thread::sleep_for(std::chrono::seconds(6));  // the stack and the balls are asleep by now
+    auto whole = connect(domain, "late");
+    const Region region{{2, -1, -1}, {5, 1, 1}};
+    auto regional = connect(domain, "regional", region);
+    auto seen_whole = collect(*whole, 0, std::chrono::seconds(10));
+    ASSERT_FALSE(seen_whole.empty());
+    EXPECT_EQ(seen_whole.begin()->second.bodies.size(), scene.bodies.size())
+        << "the first frame holds every body";
+    auto seen_region = collect(*regional, seen_whole.rbegin()->first, std::chrono::seconds(10));
+    ASSERT_FALSE(seen_region.empty());
+    const WorldFrame& r = seen_region.rbegin()->second;
+    // The same frame of the whole world, filtered by the region, must be exactly what the region client has.
+    auto later = collect(*whole, r.frame, std::chrono::seconds(10));
+    WorldFrame w = seen_whole.count(r.frame) ? seen_whole.at(r.frame) : later.at(r.frame);
+    std::set<BodyId> want, got;
+    for (const BodyView& b : w.bodies) {
+        if (region.contains(b.position.sector)) want.insert(b.id);
+    }
+    for (const BodyView& b : r.bodies)
+        got.insert(b.id);
+    EXPECT_EQ(got, want);
+    EXPECT_EQ(want, (std::set<BodyId>{51, 52, 53}));  // balls at 1.5 L, 3 L and 4.5 L
+    cluster.process->stop();
+}
+
+TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
+    Scene scene;
+    scene.settings.sector_size = kL;
+    for (int n = 0; n < 3; ++n)
+        scene.bodies.push_back(scenes::sphere_body(1 + n, 0.5, 1.0, Eigen::Vector3d(n * 150.0, 0, 0)));
+    scene.bodies.push_back(
+        scenes::box_body(10, Eigen::Vector3d::Constant(1.0), 0.0, Eigen::Vector3d(0, -10, 0)));
+    const int domain = 125;
+    const std::string path = write_scene(scene, "commands");
+    auto a = connect(domain, "alice");
+    auto b = connect(domain, "bob");
+    auto cluster = start_cluster(path, domain, 2, 1200);
+    ASSERT_TRUE(cluster.process);
+    ASSERT_TRUE(a->wait_for_cluster(std::chrono::seconds(30)));
+    ASSERT_TRUE(b->wait_for_cluster(std::chrono::seconds(30)));
+    collect(*a, 0, std::chrono::seconds(5));
+
+    // Both set body 2's velocity at once: both are applied, in a defined order, and the later one wins.
+    const auto ra = a->set_velocity(2, {1, 0, 0}, {0, 0, 0});
+    const auto rb = b->set_velocity(2, {-3, 0, 0}, {0, 0, 0});
+    auto oa = a->wait_outcome(ra, std::chrono::seconds(10));
+    auto ob = b->wait_outcome(rb, std::chrono::seconds(10));
+    ASSERT_TRUE(oa && ob);
+    EXPECT_TRUE(oa->applied && ob->applied) << oa->reason << " / " << ob->reason;
+    EXPECT_NE(oa->order, ob->order);
+    const double winner = oa->order > ob->order ? 1.0 : -3.0;
+    const std::uint64_t after = std::max(oa->frame, ob->frame) + 5;
+    auto frames = collect(*a, after, std::chrono::seconds(10));
+    ASSERT_TRUE(frames.count(after));
+    for (const BodyView& v : frames.at(after).bodies) {
+        if (v.id == 2) {
+            EXPECT_NEAR(v.linear_velocity.x(), winner, 1e-6);
+        }
+    }
+
+    // Refusals, each with its reason, and nothing else changes.
+    const WorldFrame before = frames.rbegin()->second;
+    auto refused = [&](Client& c, std::uint64_t request, const std::string& reason) {
+        auto o = c.wait_outcome(request, std::chrono::seconds(10));
+        ASSERT_TRUE(o);
+        EXPECT_FALSE(o->applied);
+        EXPECT_NE(o->reason.find(reason), std::string::npos) << o->reason;
+    };
+    refused(*a, a->apply_impulse(77, {1, 0, 0}), "unknown body id 77");
+    refused(*b, b->apply_impulse(1, {std::nan(""), 0, 0}), "finite");
+    refused(*a, a->set_velocity(10, {1, 0, 0}, {0, 0, 0}), "static");
+    refused(*b, b->remove(999), "unknown body id 999");
+    BodyDesc twin = scenes::sphere_body(3, 0.5, 1.0, Eigen::Vector3d(5, 5, 5));
+    refused(*a, a->spawn(twin), "id is used by another body");
+    BodyDesc huge = scenes::sphere_body(40, 100.0, 1.0, Eigen::Vector3d(5, 5, 5));
+    refused(*b, b->spawn(huge), "larger than a sector");
+    auto later = collect(*a, before.frame + 10, std::chrono::seconds(10));
+    const WorldFrame& now = later.rbegin()->second;
+    ASSERT_EQ(now.bodies.size(), before.bodies.size());
+    for (std::size_t n = 0; n < now.bodies.size(); ++n) {
+        const BodyView& x = now.bodies[n];
+        const BodyView& y = before.bodies[n];
+        EXPECT_EQ(x.id, y.id);
+        // Unpushed bodies drift only by their own velocity over the frames between.
+        EXPECT_NEAR(x.linear_velocity.x(), y.linear_velocity.x(), 1e-6) << "body " << x.id;
+    }
+
+    // A spawn and a removal do what they say.
+    BodyDesc fresh = scenes::sphere_body(41, 0.5, 1.0, Eigen::Vector3d(300, 2, 0));
+    auto spawned = a->wait_outcome(a->spawn(fresh), std::chrono::seconds(10));
+    ASSERT_TRUE(spawned && spawned->applied) << (spawned ? spawned->reason : "no answer");
+    auto removed = b->wait_outcome(b->remove(1), std::chrono::seconds(10));
+    ASSERT_TRUE(removed && removed->applied) << (removed ? removed->reason : "no answer");
+    auto last = collect(*a, std::max(spawned->frame, removed->frame) + 3, std::chrono::seconds(10));
+    std::set<BodyId> ids;
+    for (const BodyView& v : last.rbegin()->second.bodies)
+        ids.insert(v.id);
+    EXPECT_TRUE(ids.count(41));
+    EXPECT_FALSE(ids.count(1));
+    cluster.process->stop();
+}
+
+TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {
+    auto run = [](const std::string& command) {
+        std::array<char, 4096> buffer{};
+        std::string out;
+        std::FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+        while (std::fgets(buffer.data(), buffer.size(), pipe))
+            out += buffer.data();
+        const int status = pclose(pipe);
+        return std::make_pair(WEXITSTATUS(status), out);
+    };
+    auto [code, out] = run(std::string(LPSS_WORKER) + " --id 1 --domain 126 --coordinator-wait-s 2");
+    EXPECT_EQ(code, 3);
+    EXPECT_NE(out.find("no coordinator found on domain 126"), std::string::npos) << out;
+    std::tie(code, out) = run(std::string(LPSS_CLUSTER) + " /nonexistent.textproto --domain 126");
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(out.find("cannot open scene file"), std::string::npos) << out;
+    std::tie(code, out) = run(std::string(LPSS_WORKER) + " --id 1 --domain 126 --profile /nonexistent.xml");
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(out.find("cannot read the DDS profile /nonexistent.xml"), std::string::npos) << out;
+    std::tie(code, out) = run(std::string(LPSS_WATCH) + " --domain 126 --wait-s 2");
+    EXPECT_EQ(code, 3);
+    EXPECT_NE(out.find("no lpss cluster found on domain 126"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace lpss
