@@ -3,14 +3,14 @@
 #include <fmt/format.h>
 
 #include "subcommands.hpp"
-#if LPSS_BENCH_HAS_STABILITY
+#if LPSS_BENCH_DRIVER
 #include "stability_cases.hpp"
 #endif
 
 namespace lpss::bench {
 
 void run_stability(const Context& context) {
-#if LPSS_BENCH_HAS_STABILITY
+#if LPSS_BENCH_DRIVER
     Table table({"case", "placement", "metric", "value", "limit", "kind", "ok", "ms_per_frame", "basis"});
     for (const stability::Case& c : stability::all_cases()) {
         for (const stability::Placement& where : stability::placements()) {

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
         {"stacks", "box stacks of 10 and 30 at 0, 2^24, 2^40, 1e15 (paper Figure 8)", run_stacks},
         {"scaling", "frame time against body count and threads", run_scaling},
         {"stability", "the stability suite's numbers", run_stability},
+        {"cluster", "lpss-cluster with 2 workers against one process", run_cluster},
     };
     std::vector<std::pair<CLI::App*, const Sub*>> commands;
     for (const Sub& sub : subs)

@@ -13,5 +13,6 @@ void run_overhead(const Context& context);
 void run_stacks(const Context& context);
 void run_scaling(const Context& context);
 void run_stability(const Context& context);
+void run_cluster(const Context& context);
 
 }  // namespace lpss::bench

@@ -1,0 +1,215 @@
+// cluster: lpss-cluster with 2 workers on this machine, for 1k, 10k and 50k drifting bodies: frames per
+// second reached, the time from a worker finishing a frame to a client holding it (median, 99th
+// percentile), bytes of sector frames per body per frame, handoffs per second; and the same scene in one
+// process (the engine lpss-sim runs, timed by Google Benchmark), so that the cost of distribution reads
+// as a ratio.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "scenes.hpp"
+#include "subcommands.hpp"
+
+#if LPSS_BENCH_DRIVER
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "child_process.hpp"
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/topics.hpp"
+#endif
+
+namespace lpss::bench {
+
+#if LPSS_BENCH_DRIVER
+namespace {
+
+using Clock = std::chrono::system_clock;
+
+/// Bodies drifting without gravity in a lattice 1.5 apart around the origin, at up to 2 units/s: they
+/// cross sectors, and the border between the two workers, all the time.
+Scene drifting(int count) {
+    Scene s;
+    s.settings.sector_size = 8;
+    s.settings.sleeping = false;
+    std::mt19937_64 random(99);
+    std::uniform_real_distribution<double> speed(-2.0, 2.0);
+    const int side = static_cast<int>(std::ceil(std::cbrt(count)));
+    for (int n = 0; n < count; ++n) {
+        // Centred on the origin, so that the lattice spans several sectors and blocks of sectors.
+        Eigen::Vector3d p(1.5 * (n % side - side / 2), 1.5 * (n / side % side - side / 2),
+                          1.5 * (n / (side * side) - side / 2));
+        BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
+                           : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
+        b.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
+        s.bodies.push_back(b);
+    }
+    return s;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(p * (v.size() - 1) + 0.5)))];
+}
+
+double seconds_of(const eprosima::fastrtps::rtps::Time_t& t) { return t.seconds() + t.nanosec() * 1e-9; }
+
+struct ClusterRun {
+    double frames_per_second = 0, latency_p50_ms = 0, latency_p99_ms = 0, bytes_per_body_frame = 0;
+    double handoffs_per_second = 0;
+    std::uint64_t frames = 0;
+};
+
+ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::uint64_t frames, int domain,
+                       const std::filesystem::path& logs) {
+    ClusterRun out;
+    auto participant = dds::Participant::create(domain, "", "lpss-bench");
+    if (!participant) throw std::runtime_error(participant.error().message);
+    dds::Participant& p = **participant;
+    dds::Inbox inbox;
+    auto frames_in = std::make_unique<dds::Reader<wire::SectorFrame>>(
+        p, p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+        dds::reader_qos(dds::kSectorFrameReading), &inbox);
+    auto marks_in = std::make_unique<dds::Reader<wire::WorkerFrame>>(
+        p, p.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(dds::kFrameDelivery),
+        &inbox);
+    auto cluster = runtime::ChildProcess::start(
+        LPSS_CLUSTER_PROGRAM,
+        {scene_file, "--workers", "2", "--frames", std::to_string(frames), "--domain", std::to_string(domain),
+         "--quiet", "--log-dir", (logs / "cluster-logs").string()},
+        (logs / "cluster.out").string());
+    if (!cluster) throw std::runtime_error("cannot start lpss-cluster");
+
+    // Per (worker, frame): when its marker was written, and the sectors (with stamps) it covers.
+    struct Pending {
+        double written = 0;
+        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+    };
+    std::map<std::pair<std::uint32_t, std::uint64_t>, Pending> pending;
+    std::map<SectorKey, std::uint64_t> latest;
+    std::vector<double> latencies;
+    double payload = 0, first = 0, last = 0;
+    std::uint64_t handoffs = 0, first_frame = 0, last_frame = 0;
+    auto settle = [&](double now) {
+        for (auto it = pending.begin(); it != pending.end();) {
+            bool held = true;
+            for (const auto& [key, stamp] : it->second.stamps) {
+                auto seen = latest.find(key);
+                held = held && seen != latest.end() && seen->second >= stamp;
+            }
+            if (!held) {
+                ++it;
+                continue;
+            }
+            latencies.push_back(1e3 * (now - it->second.written));
+            it = pending.erase(it);
+        }
+    };
+    while (cluster->running()) {
+        inbox.wait(std::chrono::milliseconds(5));
+        frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;
+            payload += static_cast<double>(wire::SectorFrame::getCdrSerializedSize(f));
+            std::uint64_t& l = latest[dds::from_wire(f.sector())];
+            l = std::max(l, f.frame());
+        });
+        marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || m.frame() == 0) return;
+            Pending entry;
+            entry.written = seconds_of(info.source_timestamp);
+            for (const auto& s : m.sectors())
+                entry.stamps.emplace_back(dds::from_wire(s.sector()), s.frame());
+            pending[{m.worker(), m.frame()}] = std::move(entry);
+            handoffs += m.leaving().size();
+            const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+            if (first_frame == 0) {
+                first_frame = m.frame();
+                first = now;
+            }
+            last_frame = std::max(last_frame, m.frame());
+            last = now;
+        });
+        settle(std::chrono::duration<double>(Clock::now().time_since_epoch()).count());
+    }
+    frames_in.reset();
+    marks_in.reset();
+    if (cluster->exit_code().value_or(1) != 0)
+        throw std::runtime_error("lpss-cluster failed: see " + logs.string());
+    out.frames = last_frame;
+    const double span = std::max(1e-9, last - first);
+    out.frames_per_second = static_cast<double>(last_frame - first_frame) / span;
+    out.latency_p50_ms = percentile(latencies, 0.5);
+    out.latency_p99_ms = percentile(latencies, 0.99);
+    out.bytes_per_body_frame =
+        payload / (static_cast<double>(bodies) * static_cast<double>(std::max<std::uint64_t>(1, last_frame)));
+    out.handoffs_per_second = static_cast<double>(handoffs) / span;
+    return out;
+}
+
+}  // namespace
+#endif
+
+void run_cluster(const Context& context) {
+#if LPSS_BENCH_DRIVER
+    Table table({"bodies", "workers", "frames", "frames_per_second", "ms_per_frame", "latency_p50_ms",
+                 "latency_p99_ms", "bytes_per_body_frame", "handoffs_per_second", "in_process_ms_per_frame",
+                 "ratio_to_in_process"});
+    std::filesystem::create_directories(context.out);
+    const std::vector<int> counts =
+        context.quick ? std::vector<int>{1000} : std::vector<int>{1000, 10000, 50000};
+    int domain = 150;
+    for (int n : counts) {
+        progress(fmt::format("cluster: {} bodies on 2 workers", n));
+        const Scene scene = drifting(n);
+        const std::filesystem::path file = context.out / fmt::format("drifting_{}.textproto", n);
+        std::ofstream(file) << format_scene(scene);
+        const std::uint64_t frames = n <= 1000 ? 600 : n <= 10000 ? 200 : 60;
+        const ClusterRun run = run_cluster(file.string(), scene.bodies.size(), frames, domain++, context.out);
+        progress(fmt::format("cluster: {} bodies in one process", n));
+        World world = make_world(scene, EngineOptions{});
+        for (int f = 0; f < 10; ++f)
+            world.step();
+        const double in_process =
+            ms_per_frame(fmt::format("cluster/in-process/{}", n), world, 1, context.quick ? 0.2 : 1.0);
+        const double ms = 1e3 / run.frames_per_second;
+        table.add({std::to_string(n), "2", std::to_string(run.frames), num(run.frames_per_second, 4),
+                   num(ms, 4), num(run.latency_p50_ms, 3), num(run.latency_p99_ms, 3),
+                   num(run.bytes_per_body_frame, 4), num(run.handoffs_per_second, 4), num(in_process, 4),
+                   num(ms / in_process, 3)});
+        std::filesystem::remove(file);
+    }
+    std::string md =
+        "lpss-cluster with 2 workers (as fast as they go, not paced), bodies drifting at up to 2 units/s "
+        "without "
+        "gravity in sectors of 8 (blocks of 4 sectors are what workers own), crossing sectors and the border "
+        "between the workers. frames_per_second: frames "
+        "over the wall time between the first and last end-of-frame marks the benchmark saw. latency: from a "
+        "worker writing its end-of-frame mark (DDS source timestamp) to this process holding that mark and a "
+        "sample "
+        "of every sector it lists. bytes_per_body_frame: serialized sector-frame payload (CDR, without RTPS "
+        "headers) per body per frame. in_process_ms_per_frame: the same scene on the engine in one process "
+        "(Google Benchmark, one thread).\n\n" +
+        table.markdown();
+    std::string plot = R"(set title 'Frame time: two worker processes against one process'
+set logscale xy
+set xlabel 'bodies'
+set ylabel 'milliseconds per frame'
+set key top left
+plot '$CSV' every ::1 using 1:5 with linespoints pt 7 title 'lpss-cluster, 2 workers', \
+     '$CSV' every ::1 using 1:10 with linespoints pt 5 title 'one process (lpss-sim engine)', \
+     '$CSV' every ::1 using 1:7 with linespoints pt 9 title 'latency p99 (worker to client)'
+)";
+    publish(context, "cluster", table, "cluster: the cost of distribution", md, plot);
+#else
+    (void)context;
+    throw std::runtime_error("cluster runs in the float build only");
+#endif
+}
+
+}  // namespace lpss::bench
