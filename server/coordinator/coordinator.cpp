@@ -57,6 +57,7 @@ struct Coordinator::State {
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
+    Clock::time_point frame_started;
 
     void pump();
     void describe(BodyId id);
@@ -231,7 +232,10 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
         if (stop.load()) return false;
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (marks.count({w, f})) continue;
-            if (Clock::now() - last_heard[w] > options.worker_timeout) {
+            // Silence counts from the frame's start (or the last word, if later); the first frame may take
+            // as long as the workers take to load the world.
+            const auto since = std::max(last_heard[w], frame_started);
+            if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout)) {
                 spdlog::error(
                     "coordinator: worker {} stopped answering at frame {}; its sectors go to the others", w,
                     f);
@@ -367,6 +371,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
                                           std::chrono::duration_cast<Clock::duration>(
                                               std::chrono::duration<double>((f - 1) * s.scene.settings.dt)));
         s.go_out->write(go);
+        s.frame_started = Clock::now();
         if (finished) {
             spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
             // Give the workers a moment to read the stop before this participant goes.

@@ -13,6 +13,8 @@
 #include "subcommands.hpp"
 
 #if LPSS_BENCH_DRIVER
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -170,7 +172,12 @@ void run_cluster(const Context& context) {
         const std::filesystem::path file = context.out / fmt::format("drifting_{}.textproto", n);
         std::ofstream(file) << format_scene(scene);
         const std::uint64_t frames = n <= 1000 ? 600 : n <= 10000 ? 200 : 60;
-        const ClusterRun run = run_cluster(file.string(), scene.bodies.size(), frames, domain++, context.out);
+        // The children's logs go to a folder of this run's own, not beside the results.
+        const std::filesystem::path logs =
+            std::filesystem::temp_directory_path() / fmt::format("lpss-bench-cluster-{}-{}", ::getpid(), n);
+        std::filesystem::create_directories(logs);
+        progress("cluster: logs in " + logs.string());
+        const ClusterRun run = run_cluster(file.string(), scene.bodies.size(), frames, domain++, logs);
         progress(fmt::format("cluster: {} bodies in one process", n));
         World world = make_world(scene, EngineOptions{});
         for (int f = 0; f < 10; ++f)
