@@ -14,6 +14,7 @@
 #include "lpss/common/scene.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 #include "stop_signal.hpp"
 
@@ -188,6 +189,11 @@ int main(int argc, char** argv) {
         if (code != 0 && exit_code == 0 && !stopping) exit_code = code;
     }
     marks.reset();
+    participant->reset();
+    // A worker that was killed leaves its shared memory behind; so does every participant's port files.
+    const std::size_t cleaned = lpss::dds::remove_abandoned_shm(domain);
+    if (cleaned > 0 && !quiet)
+        fmt::print("lpss-cluster: removed {} abandoned file(s) from /dev/shm\n", cleaned);
     print(true);
     if (exit_code != 0) {
         fmt::print(stderr, "lpss-cluster: a process failed (exit {}); see the logs in {}\n", exit_code,

@@ -324,11 +324,11 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
     std::vector<SectorKey> written;
     for (const SectorKey& key : keys) {
         if (!owns(key)) {
-            // A sector this worker no longer owns: its last word is that everybody left.
-            auto it = members.find(key);
-            if (it == members.end()) continue;
+            // A sector handed to another worker: its new owner writes it, whole, from now on.
+            members.erase(key);
+            continue;
         }
-        std::vector<BodySnapshot> bodies = owns(key) ? w.sector_bodies(key) : std::vector<BodySnapshot>{};
+        std::vector<BodySnapshot> bodies = w.sector_bodies(key);
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(key));
         sample.frame(frame);

@@ -23,6 +23,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 #endif
 
@@ -141,6 +142,8 @@ ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::u
     }
     frames_in.reset();
     marks_in.reset();
+    participant->reset();
+    dds::remove_abandoned_shm(domain);  // the port files our participant leaves
     if (cluster->exit_code().value_or(1) != 0)
         throw std::runtime_error("lpss-cluster failed: see " + logs.string());
     out.frames = last_frame;

@@ -5,7 +5,9 @@
 
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -13,6 +15,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 #include "scenes.hpp"
 
@@ -246,6 +249,78 @@ TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
     EXPECT_EQ(text.find("handoffs 0 "), std::string::npos) << text;
 }
 
+TEST(Cluster, SectorsMoveBetweenWorkersWhenTheLoadShifts) {
+    // Ten resting boxes far to the west, ten balls in each of two sectors far to the east: the first
+    // assignment gives the west and the nearer east sector to worker 1, the farther one to worker 2. The
+    // balls then fly west into worker 1's sectors, leaving worker 2 idle: the coordinator moves sectors.
+    Scene scene;
+    scene.settings.sector_size = 32;
+    scene.settings.sleeping = false;
+    BodyId id = 1;
+    for (int n = 0; n < 10; ++n) {
+        scene.bodies.push_back(scenes::box_body(id++, Eigen::Vector3d::Constant(0.4), 1.0,
+                                                Eigen::Vector3d(-128 + 2.0 * n, 0, 0)));
+    }
+    for (int sector = 4; sector <= 5; ++sector) {
+        for (int n = 0; n < 10; ++n) {
+            BodyDesc ball =
+                scenes::sphere_body(id++, 0.4, 1.0, Eigen::Vector3d(32.0 * sector - 8 + 1.6 * n, 0, 3));
+            ball.linear_velocity = Eigen::Vector3d(-60, 0, 0);
+            scene.bodies.push_back(ball);
+        }
+    }
+    BodyDesc wall = scenes::box_body(500, Eigen::Vector3d(0.5, 10, 10), 0.0, Eigen::Vector3d(-40, 0, 0));
+    wall.material = Material{0.5, 0.0};
+    scene.bodies.push_back(wall);
+    const int domain = 127;
+    const std::string path = write_scene(scene, "rebalance");
+    MembershipCheck check(domain);
+    check.workers = 2;
+    check.expected_bodies = scene.bodies.size();
+    auto cluster =
+        start_cluster(path, domain, 2, 600, {"--block-size", "1", "--rebalance-every", "60"}, true);
+    ASSERT_TRUE(cluster.process);
+    while (cluster.process->running())
+        check.poll();
+    for (int n = 0; n < 20; ++n)
+        check.poll();
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    std::ifstream log(cluster.log_dir + "/coordinator.log");
+    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("(load shifted)"), std::string::npos) << text;
+    EXPECT_GE(check.checked, 500u);
+    EXPECT_EQ(check.doubled, 0u);
+    EXPECT_EQ(check.incomplete, 0u);
+    std::printf("%zu frames checked across a rebalance: %zu with a body twice, %zu with a body missing\n",
+                check.checked, check.doubled, check.incomplete);
+}
+
+TEST(Cluster, AWorkerThatDiesHandsItsSectorsToTheOthers) {
+    const Scene scene = crossing_scene();
+    const int domain = 128;
+    const std::string path = write_scene(scene, "dies");
+    auto client = connect(domain, "survivor");
+    auto cluster = start_cluster(path, domain, 3, 900, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    auto before = collect(*client, 120);
+    ASSERT_FALSE(before.empty());
+    // Kill worker 2 outright, as a crash would. The bracket keeps the pattern from matching the shell
+    // that runs pkill, whose own command line holds the pattern.
+    const std::string kill = "pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
+    ASSERT_EQ(std::system(kill.c_str()), 0);
+    const std::uint64_t killed_at = before.rbegin()->first;
+    // The coordinator notices within its timeout (5 s), gives worker 2's sectors to the others, and the
+    // world goes on with every body.
+    auto after = collect(*client, killed_at + 600, std::chrono::seconds(60));
+    ASSERT_FALSE(after.empty());
+    EXPECT_GT(after.rbegin()->first, killed_at + 300) << "frames go on after the death";
+    EXPECT_EQ(after.rbegin()->second.bodies.size(), scene.bodies.size());
+    std::ifstream log(cluster.log_dir + "/coordinator.log");
+    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("worker 2 stopped answering"), std::string::npos) << text;
+    cluster.process->stop();
+}
+
 TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
     Scene scene = scenes::box_stack(Eigen::Vector3d(0, 0, 0), 4, kL);
     for (int n = 0; n < 6; ++n) {
@@ -356,6 +431,61 @@ TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
     EXPECT_TRUE(ids.count(41));
     EXPECT_FALSE(ids.count(1));
     cluster.process->stop();
+}
+
+/// The Fast DDS files in /dev/shm, by name.
+std::set<std::string> shm_files() {
+    std::set<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator("/dev/shm")) {
+        const std::string name = entry.path().filename().string();
+        if (name.find("fastrtps_") != std::string::npos) names.insert(name);
+    }
+    return names;
+}
+
+TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
+    const int domain = 129;
+    const long first_port = 7400 + 250L * domain;
+    const std::set<std::string> at_start = shm_files();
+    auto own = dds::Participant::create(domain, "", "shm-test");
+    ASSERT_TRUE(own.ok()) << own.error().message;
+    const std::set<std::string> before = shm_files();
+    std::set<std::string> own_segments;  // ours, in use while `own` lives
+    for (const std::string& name : before)
+        if (!at_start.count(name) && name.find("port") == std::string::npos) own_segments.insert(name);
+    ASSERT_FALSE(own_segments.empty());
+    // A worker waiting for a coordinator that never comes has a participant, with a segment of its own.
+    auto worker = runtime::ChildProcess::start(
+        LPSS_WORKER, {"--id", "1", "--domain", std::to_string(domain), "--coordinator-wait-s", "60"});
+    ASSERT_TRUE(worker);
+    std::set<std::string> its_segments;
+    for (int n = 0; n < 200 && its_segments.empty(); ++n) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        for (const std::string& name : shm_files())
+            if (!before.count(name) && name.find("port") == std::string::npos) its_segments.insert(name);
+    }
+    ASSERT_FALSE(its_segments.empty()) << "the worker made no shared-memory segment";
+    ::kill(worker->pid(), SIGKILL);
+    ASSERT_TRUE(worker->wait(std::chrono::seconds(5)));
+    for (const std::string& name : its_segments)
+        ASSERT_TRUE(shm_files().count(name)) << "Fast DDS left " << name;
+
+    EXPECT_GT(dds::remove_abandoned_shm(domain), 0u);
+    const std::set<std::string> after = shm_files();
+    for (const std::string& name : its_segments)
+        EXPECT_FALSE(after.count(name)) << name << " is still there";
+    for (const std::string& name : own_segments)
+        EXPECT_TRUE(after.count(name)) << name << " was in use, and went";
+
+    // With no participant left on the domain, none of its port files stays.
+    own->reset();
+    dds::remove_abandoned_shm(domain);
+    for (const std::string& name : shm_files()) {
+        long port = 0;
+        if (std::sscanf(name.c_str(), "fastrtps_port%ld", &port) == 1) {
+            EXPECT_FALSE(port >= first_port && port < first_port + 250) << name << " is left";
+        }
+    }
 }
 
 TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {

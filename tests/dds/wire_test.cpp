@@ -7,6 +7,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::dds {
@@ -14,6 +15,14 @@ namespace {
 
 // A domain of this test's own, so that suites can run side by side.
 constexpr int kDomain = 171;
+
+// Every participant leaves port files in /dev/shm; the suite removes its domain's when it ends.
+class RemoveSharedMemory : public ::testing::Environment {
+public:
+    void TearDown() override { remove_abandoned_shm(kDomain); }
+};
+const ::testing::Environment* const kRemoveSharedMemory =
+    ::testing::AddGlobalTestEnvironment(new RemoveSharedMemory);  // gtest owns it
 
 wire::SectorFrame frame_of(const SectorKey& key, std::uint64_t frame, BodyId id) {
     wire::SectorFrame f;
