@@ -278,7 +278,7 @@ std::uint64_t Client::State::send(wire::Command command) {
 
 std::uint64_t Client::spawn(const BodyDesc& body) {
     wire::Command c;
-    c.kind(0);
+    c.kind(wire::kCommandSpawn);
     c.body(body.id);
     BodySnapshot at;
     at.orientation = body.orientation;
@@ -296,7 +296,7 @@ std::uint64_t Client::spawn(const BodyDesc& body) {
 
 std::uint64_t Client::remove(BodyId id) {
     wire::Command c;
-    c.kind(1);
+    c.kind(wire::kCommandRemove);
     c.body(id);
     return state_->send(c);
 }
@@ -304,7 +304,7 @@ std::uint64_t Client::remove(BodyId id) {
 std::uint64_t Client::apply_impulse(BodyId id, const Eigen::Vector3d& impulse,
                                     const Eigen::Vector3d& offset) {
     wire::Command c;
-    c.kind(2);
+    c.kind(wire::kCommandImpulse);
     c.body(id);
     c.vector1(dds::to_wire(impulse));
     c.vector2(dds::to_wire(offset));
@@ -313,7 +313,7 @@ std::uint64_t Client::apply_impulse(BodyId id, const Eigen::Vector3d& impulse,
 
 std::uint64_t Client::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
     wire::Command c;
-    c.kind(3);
+    c.kind(wire::kCommandSetVelocity);
     c.body(id);
     c.vector1(dds::to_wire(linear));
     c.vector2(dds::to_wire(angular));

@@ -131,8 +131,11 @@ void Inbox::poke() { on_data_available(nullptr); }
 
 // ---- QoS
 
-fdds::DataWriterQos writer_qos(const Delivery& d) {
-    fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
+namespace {
+
+// Writers and readers take the same settings; their QoS types differ but share these members.
+template <class Qos>
+Qos with_delivery(Qos q, const Delivery& d) {
     // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
     q.resource_limits().max_instances = 0;                   // 0: unlimited
     q.resource_limits().max_samples = 0;                     // 0: unlimited
@@ -146,18 +149,10 @@ fdds::DataWriterQos writer_qos(const Delivery& d) {
     return q;
 }
 
-fdds::DataReaderQos reader_qos(const Delivery& d) {
-    fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
-    // Fast DDS defaults to 10 instances per endpoint: a world has a sample per sector and per body.
-    q.resource_limits().max_instances = 0;                   // 0: unlimited
-    q.resource_limits().max_samples = 0;                     // 0: unlimited
-    q.resource_limits().max_samples_per_instance = d.depth;  // 0 would mean one
-    q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
-    q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    q.history().depth = d.depth;
-    q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
-    return q;
-}
+}  // namespace
+
+fdds::DataWriterQos writer_qos(const Delivery& d) { return with_delivery(fdds::DATAWRITER_QOS_DEFAULT, d); }
+
+fdds::DataReaderQos reader_qos(const Delivery& d) { return with_delivery(fdds::DATAREADER_QOS_DEFAULT, d); }
 
 }  // namespace lpss::dds

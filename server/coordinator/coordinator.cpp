@@ -153,7 +153,7 @@ void Coordinator::State::accept_commands() {
             return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
         };
         switch (c.kind()) {
-            case 0: {
+            case wire::kCommandSpawn: {
                 BodyDesc body = dds::from_wire(c.spawn());
                 if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
                 if (Status st = validate_body(body, scene.settings); !st)
@@ -162,11 +162,11 @@ void Coordinator::State::accept_commands() {
                     return refuse(c, describe_body(body) + ": id is used by another body");
                 break;
             }
-            case 1:
+            case wire::kCommandRemove:
                 if (known == bodies.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
                 break;
-            case 2:
-            case 3:
+            case wire::kCommandImpulse:
+            case wire::kCommandSetVelocity:
                 if (known == bodies.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
                 if (known->second.desc.is_static()) {
                     return refuse(c, describe_body(known->second.desc) + ": is static and cannot be pushed");
@@ -181,7 +181,7 @@ void Coordinator::State::accept_commands() {
         commands.push_back(c);
         command_order.push_back(next_order++);
         // Spawns and removals change the body set at once, so that later commands see them.
-        if (c.kind() == 0) {
+        if (c.kind() == wire::kCommandSpawn) {
             BodyDesc body = dds::from_wire(c.spawn());
             if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
             BodyEntry e;
@@ -199,7 +199,7 @@ void Coordinator::State::accept_commands() {
             bodies.emplace(body.id, e);
             order.push_back(body.id);
             describe(body.id);
-        } else if (c.kind() == 1) {
+        } else if (c.kind() == wire::kCommandRemove) {
             descriptions_out->dispose(
                 dds::describe(known->second.desc, known->second.state, known->second.owner));
             bodies.erase(known);

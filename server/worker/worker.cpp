@@ -216,7 +216,7 @@ void Worker::State::result(const wire::Command& command, std::uint64_t order, bo
 void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
     World& w = *world;
     switch (c.kind()) {
-        case 0: {  // spawn: every worker adds it (its owner as its own, the others as a ghost)
+        case wire::kCommandSpawn: {  // every worker adds it (its owner as its own, the others as a ghost)
             BodyDesc body = dds::from_wire(c.spawn());
             if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
             Expected<SectorPosition> at = [&]() -> Expected<SectorPosition> {
@@ -230,7 +230,7 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             if (st.ok() && at) touched.insert(at->sector);
             break;
         }
-        case 1: {  // remove: every worker removes its copy
+        case wire::kCommandRemove: {  // every worker removes its copy
             const bool mine = w.contains(c.body()) && !w.is_ghost(c.body());
             std::optional<BodySnapshot> before = w.body(c.body());
             Status st = w.remove_body(c.body());
@@ -238,11 +238,12 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             if (before) touched.insert(before->position.sector);
             break;
         }
-        case 2:
-        case 3: {  // impulse, velocity: the owner applies
+        case wire::kCommandImpulse:
+        case wire::kCommandSetVelocity: {  // the owner applies
             if (!w.contains(c.body()) || w.is_ghost(c.body())) break;
             const Eigen::Vector3d a = dds::from_wire(c.vector1()), b = dds::from_wire(c.vector2());
-            Status st = c.kind() == 2 ? w.apply_impulse(c.body(), a, b) : w.set_velocity(c.body(), a, b);
+            Status st = c.kind() == wire::kCommandImpulse ? w.apply_impulse(c.body(), a, b)
+                                                          : w.set_velocity(c.body(), a, b);
             result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             break;
         }
