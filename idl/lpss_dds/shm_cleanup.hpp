@@ -3,13 +3,15 @@
 // as it found it.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 
 namespace lpss::dds {
 
-/// Removes Fast DDS's abandoned shared-memory files: every participant segment whose lock no live process
-/// holds, and the port files of `domain` that no live process maps. Files still in use are left alone, so
-/// this is safe while other programs run. Returns how many files it removed.
-std::size_t remove_abandoned_shm(int domain);
+/// Removes Fast DDS's abandoned shared-memory files: participant segments (of any domain) whose lock no
+/// live process holds and that have not changed for `min_age`, and the port files of `domain` that no live
+/// process maps. Call it for a domain whose participants (yours) have ended: a participant that starts
+/// on `domain` while this runs could lose its port. Returns how many files it removed.
+std::size_t remove_abandoned_shm(int domain, std::chrono::seconds min_age = std::chrono::seconds(10));
 
 }  // namespace lpss::dds

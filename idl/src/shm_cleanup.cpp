@@ -2,8 +2,11 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -44,9 +47,17 @@ std::set<std::string> mapped_shm_files() {
     return mapped;
 }
 
+// Since the file last changed (written, or created).
+std::chrono::seconds age(const fs::path& file) {
+    struct stat status {};
+    if (::stat(file.c_str(), &status) != 0) return std::chrono::seconds(0);
+    const std::time_t changed = std::max(status.st_mtime, status.st_ctime);
+    return std::chrono::seconds(std::max<std::time_t>(0, std::time(nullptr) - changed));
+}
+
 }  // namespace
 
-std::size_t remove_abandoned_shm(int domain) {
+std::size_t remove_abandoned_shm(int domain, std::chrono::seconds min_age) {
     static const std::regex segment_lock("fastrtps_[0-9a-f]{16}_el");
     static const std::regex port("fastrtps_port([0-9]+)(_el|_sl)?");
     // The RTPS well-known ports: every port of a domain lies in [7400 + 250 d, 7400 + 250 (d + 1)).
@@ -65,7 +76,9 @@ std::size_t remove_abandoned_shm(int domain) {
         const std::string name = entry.path().filename().string();
         std::smatch match;
         if (std::regex_match(name, segment_lock)) {
-            if (!lock_is_free(entry.path())) continue;
+            // A participant starting now creates its lock file a moment before it takes the lock; segments
+            // belong to no domain, so this may be another program's.
+            if (age(entry.path()) < min_age || !lock_is_free(entry.path())) continue;
             remove(kShmDir / name.substr(0, name.size() - 3));
             remove(entry.path());
         } else if (std::regex_match(name, match, port)) {

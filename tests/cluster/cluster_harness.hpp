@@ -17,6 +17,7 @@
 #include "child_process.hpp"
 #include "lpss/client/client.hpp"
 #include "lpss/common/scene.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 
 namespace lpss::testing {
 
@@ -27,6 +28,20 @@ inline std::string write_scene(const Scene& scene, const std::string& name) {
     std::ofstream(path) << format_scene(scene);
     return path.string();
 }
+
+/// Removes what the test's processes leave in /dev/shm on its domain (a killed worker's segment, every
+/// participant's port files) when the test ends. Declare it before the test's clients and clusters, so that
+/// they have gone by then.
+class DomainCleanup {
+public:
+    explicit DomainCleanup(int domain) : domain_(domain) {}
+    ~DomainCleanup() { dds::remove_abandoned_shm(domain_); }
+    DomainCleanup(const DomainCleanup&) = delete;
+    DomainCleanup& operator=(const DomainCleanup&) = delete;
+
+private:
+    int domain_;
+};
 
 struct ClusterRun {
     std::optional<runtime::ChildProcess> process;
