@@ -14,7 +14,8 @@ namespace lpss {
 
 // A frame is complete when every worker of the current assignment has said it ended it, and for every
 // sector it owns (that this client follows) a sample from between the worker's stamp and this frame
-// arrived: the sector as it was at this frame. Samples are buffered by frame and
+// arrived: the sector as it was at this frame; and the descriptions of the world's planes, which are in no
+// sector's samples. Samples are buffered by frame and
 // applied in order, so a frame never shows a later frame's state of some sector. Every sample holds its
 // whole sector, so the durable last sample of each sector gives a late joiner the whole world.
 struct Client::State {
@@ -34,9 +35,14 @@ struct Client::State {
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
     /// Per sector, the frames of the samples received (those applied are forgotten but the newest).
     std::unordered_map<SectorKey, std::set<std::uint64_t>, SectorKeyHash> received;
-    /// (worker, frame) -> the sectors it owns (that this client follows) and the frame of each one's latest
-    /// sample
-    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<std::pair<SectorKey, std::uint64_t>>> marks;
+    /// What a worker said at the end of a frame: the sectors it owns (that this client follows), each with
+    /// the frame of its latest sample, and how many planes the world holds.
+    struct Mark {
+        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+        std::uint32_t planes = 0;
+    };
+    std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
+    std::set<BodyId> plane_descriptions;
     std::set<std::uint64_t> marked_frames;
     std::map<BodyId, BodyView> view;
     std::uint64_t applied = 0;
@@ -111,7 +117,9 @@ void Client::State::take() {
     });
     descriptions_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) {
-            descriptions[d.id()] = dds::from_wire(d);
+            BodyDesc body = dds::from_wire(d);
+            if (is_plane(body.shape)) plane_descriptions.insert(body.id);
+            descriptions[d.id()] = std::move(body);
             return;
         }
         // Disposed: the body was removed.
@@ -119,17 +127,19 @@ void Client::State::take() {
         if (descriptions_in->raw()->get_key_value(&key, info.instance_handle) ==
             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
             descriptions.erase(key.id());
+            plane_descriptions.erase(key.id());
             view.erase(key.id());
         }
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.frame() == 0) return;
-        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+        Mark mark;
         for (const wire::SectorStamp& st : m.sectors()) {
             const SectorKey key = dds::from_wire(st.sector());
-            if (follows(key)) stamps.emplace_back(key, st.frame());
+            if (follows(key)) mark.stamps.emplace_back(key, st.frame());
         }
-        marks[{m.worker(), m.frame()}] = std::move(stamps);
+        mark.planes = m.planes();
+        marks[{m.worker(), m.frame()}] = std::move(mark);
         marked_frames.insert(m.frame());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
@@ -148,8 +158,10 @@ bool Client::State::complete(std::uint64_t frame) const {
     for (std::uint32_t w : workers) {
         auto it = marks.find({w, frame});
         if (it == marks.end()) return false;
+        // Planes are shown from their descriptions, which travel apart from the frames.
+        if (plane_descriptions.size() < it->second.planes) return false;
         // A sample of each sector from between its stamp and this frame: that sector's state at this frame.
-        for (const auto& [key, stamp] : it->second) {
+        for (const auto& [key, stamp] : it->second.stamps) {
             auto seen = received.find(key);
             if (seen == received.end()) return false;
             auto at = seen->second.upper_bound(frame);

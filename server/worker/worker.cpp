@@ -69,6 +69,7 @@ struct Worker::State {
     std::unordered_map<SectorKey, std::vector<BodyId>, SectorKeyHash> members;
     std::map<SectorKey, std::uint64_t> stamps;  ///< owned sectors and the frame of their latest sample
     std::set<SectorKey> touched;                ///< sectors changed by commands and handoffs this frame
+    std::set<BodyId> planes;                    ///< in no sector's samples: readers count them in marks
 
     bool owns(const SectorKey& key) const { return current.owner_of(key) == options.id; }
     void pump();
@@ -192,6 +193,9 @@ bool Worker::State::start_world(const wire::FrameGo& go) {
         spdlog::error("worker {}: bodies refused: {}", options.id, st.error().message);
         return false;
     }
+    for (const BodyDesc& body : early_descriptions) {
+        if (is_plane(body.shape)) planes.insert(body.id);
+    }
     early_descriptions.clear();
     std::size_t ghosts = 0;
     for (const BodySnapshot& b : world->snapshot())
@@ -228,6 +232,7 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             Status st = w.add_body(body);
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             if (st.ok() && at) touched.insert(at->sector);
+            if (st.ok() && is_plane(body.shape)) planes.insert(body.id);
             break;
         }
         case wire::kCommandRemove: {  // every worker removes its copy
@@ -236,6 +241,7 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             Status st = w.remove_body(c.body());
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             if (before) touched.insert(before->position.sector);
+            if (st.ok()) planes.erase(c.body());
             break;
         }
         case wire::kCommandImpulse:
@@ -442,6 +448,7 @@ void Worker::State::mark(const std::vector<SectorKey>& written, bool full, doubl
         m.loads().push_back(l);
     }
     m.bodies(owned);
+    m.planes(static_cast<std::uint32_t>(planes.size()));
     m.awake(awake);
     m.sector_count(sectors);
     m.border_bodies(static_cast<std::uint32_t>(s.border_bodies));
