@@ -43,6 +43,7 @@ struct Client::State {
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
     std::set<BodyId> plane_descriptions;
+    std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> description_instances;
     std::set<std::uint64_t> marked_frames;
     std::map<BodyId, BodyView> view;
     std::uint64_t applied = 0;
@@ -119,17 +120,19 @@ void Client::State::take() {
         if (info.valid_data) {
             BodyDesc body = dds::from_wire(d);
             if (is_plane(body.shape)) plane_descriptions.insert(body.id);
+            description_instances[info.instance_handle] = body.id;
             descriptions[d.id()] = std::move(body);
             return;
         }
-        // Disposed: the body was removed.
-        wire::BodyDescription key;
-        if (descriptions_in->raw()->get_key_value(&key, info.instance_handle) ==
-            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-            descriptions.erase(key.id());
-            plane_descriptions.erase(key.id());
-            view.erase(key.id());
-        }
+        // Disposed: the body was removed. The sample holds no data, and the reader may have forgotten the
+        // instance's key by now: the id comes from the instance's earlier samples.
+        auto instance = description_instances.find(info.instance_handle);
+        if (instance == description_instances.end()) return;
+        const BodyId id = instance->second;
+        description_instances.erase(instance);
+        descriptions.erase(id);
+        plane_descriptions.erase(id);
+        view.erase(id);
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.frame() == 0) return;

@@ -236,8 +236,10 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             break;
         }
         case wire::kCommandRemove: {  // every worker removes its copy
-            const bool mine = w.contains(c.body()) && !w.is_ghost(c.body());
+            // Every worker holds planes as its own: the owner of the plane's sector answers for it.
             std::optional<BodySnapshot> before = w.body(c.body());
+            const bool mine =
+                before && (planes.count(c.body()) ? owns(before->position.sector) : !w.is_ghost(c.body()));
             Status st = w.remove_body(c.body());
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             if (before) touched.insert(before->position.sector);

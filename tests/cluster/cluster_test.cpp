@@ -386,9 +386,18 @@ TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
         scene.bodies.push_back(scenes::sphere_body(1 + n, 0.5, 1.0, Eigen::Vector3d(n * 150.0, 0, 0)));
     scene.bodies.push_back(
         scenes::box_body(10, Eigen::Vector3d::Constant(1.0), 0.0, Eigen::Vector3d(0, -10, 0)));
+    // A plane far below, out of the bodies' reach in this test, to be removed by command.
+    scene.bodies.push_back(scenes::ground_plane(1000, Eigen::Vector3d(0, -1e5, 0)));
     const int domain = 125;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "commands");
+    // Every answer on the wire, to count them.
+    auto wire_participant = dds::Participant::create(domain, "", "answers");
+    ASSERT_TRUE(wire_participant.ok());
+    dds::Participant& p = **wire_participant;
+    dds::Inbox answered;
+    dds::Reader<wire::CommandResult> answers(p, p.topic<wire::CommandResultPubSubType>(dds::kCommandResults),
+                                             dds::reader_qos(dds::kCommandDelivery), &answered);
     auto a = connect(domain, "alice");
     auto b = connect(domain, "bob");
     auto cluster = start_cluster(path, domain, 2, 1200);
@@ -454,6 +463,22 @@ TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
         ids.insert(v.id);
     EXPECT_TRUE(ids.count(41));
     EXPECT_FALSE(ids.count(1));
+
+    // Every worker holds the planes; one of them answers for a plane.
+    const std::uint64_t plane_request = b->remove(1000);
+    auto plane_removed = b->wait_outcome(plane_request, std::chrono::seconds(10));
+    ASSERT_TRUE(plane_removed && plane_removed->applied)
+        << (plane_removed ? plane_removed->reason : "no answer");
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // any second answer arrives by now
+    int plane_answers = 0;
+    answers.take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
+        plane_answers += info.valid_data && r.client() == "bob" && r.request() == plane_request;
+    });
+    EXPECT_EQ(plane_answers, 1);
+    auto without_plane = collect(*a, plane_removed->frame + 3, std::chrono::seconds(10));
+    ASSERT_FALSE(without_plane.empty());
+    for (const BodyView& v : without_plane.rbegin()->second.bodies)
+        EXPECT_NE(v.id, 1000u) << "the plane is still shown";
     cluster.process->stop();
 }
 
