@@ -8,16 +8,18 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss {
 
 // A frame is complete when every worker of the current assignment has said it ended it, and for every
-// sector it owns (that this client follows) a sample from between the worker's stamp and this frame
+// sector it owns (that this client follows) a usable sample from between the worker's stamp and this frame
 // arrived: the sector as it was at this frame; and the descriptions of the world's planes, which are in no
-// sector's samples. Samples are buffered by frame and
-// applied in order, so a frame never shows a later frame's state of some sector. Every sample holds its
-// whole sector, so the durable last sample of each sector gives a late joiner the whole world.
+// sector's samples. Samples are buffered by frame and applied in order, so a frame never shows a later
+// frame's state of some sector. A partial sample is usable only on the complete sample it adds to
+// (SectorChain): a late joiner shows its first frame once every sector has come whole.
 struct Client::State {
     ClientOptions options;
     std::unique_ptr<dds::Participant> participant;
@@ -33,8 +35,8 @@ struct Client::State {
     std::vector<std::uint32_t> workers;
     std::unordered_map<BodyId, BodyDesc> descriptions;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
-    /// Per sector, the frames of the samples received (those applied are forgotten but the newest).
-    std::unordered_map<SectorKey, std::set<std::uint64_t>, SectorKeyHash> received;
+    dds::SectorChain chain;                                           ///< which samples are usable
+    dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
     /// What a worker said at the end of a frame: the sectors it owns (that this client follows), each with
     /// the frame of its latest sample, and how many planes the world holds.
     struct Mark {
@@ -45,7 +47,6 @@ struct Client::State {
     std::set<BodyId> plane_descriptions;
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> description_instances;
     std::set<std::uint64_t> marked_frames;
-    std::map<BodyId, BodyView> view;
     std::uint64_t applied = 0;
     std::optional<WorldFrame> latest;
     std::function<void(const WorldFrame&)> callback;
@@ -132,7 +133,6 @@ void Client::State::take() {
         description_instances.erase(instance);
         descriptions.erase(id);
         plane_descriptions.erase(id);
-        view.erase(id);
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.frame() == 0) return;
@@ -146,8 +146,7 @@ void Client::State::take() {
         marked_frames.insert(m.frame());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;
-        received[dds::from_wire(f.sector())].insert(f.frame());
+        if (!info.valid_data || !chain.accept(f)) return;
         pending[f.frame()].push_back(f);
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
@@ -165,58 +164,38 @@ bool Client::State::complete(std::uint64_t frame) const {
         if (plane_descriptions.size() < it->second.planes) return false;
         // A sample of each sector from between its stamp and this frame: that sector's state at this frame.
         for (const auto& [key, stamp] : it->second.stamps) {
-            auto seen = received.find(key);
-            if (seen == received.end()) return false;
-            auto at = seen->second.upper_bound(frame);
-            if (at == seen->second.begin() || *std::prev(at) < stamp) return false;
+            if (!chain.holds(key, stamp, frame)) return false;
         }
     }
     return true;
 }
 
 void Client::State::apply_until(std::uint64_t frame) {
-    std::unordered_map<BodyId, SectorKey> where;
-    for (const auto& [id, b] : view)
-        where[id] = b.position.sector;
     while (!pending.empty() && pending.begin()->first <= frame) {
-        for (const wire::SectorFrame& f : pending.begin()->second) {
-            const SectorKey key = dds::from_wire(f.sector());
-            for (const wire::BodyState& state : f.bodies()) {
-                const BodySnapshot b = dds::from_wire(state, key);
-                BodyView& v = view[b.id];
-                v.id = b.id;
-                v.position = b.position;
-                v.orientation = b.orientation;
-                v.linear_velocity = b.linear_velocity;
-                v.angular_velocity = b.angular_velocity;
-                v.awake = b.awake;
-                where[b.id] = key;
-            }
-            // A body that left this sector is gone from view unless another sector now holds it.
-            for (BodyId id : f.departed()) {
-                auto it = where.find(id);
-                if (it != where.end() && it->second == key) {
-                    view.erase(id);
-                    where.erase(it);
-                }
-            }
-        }
+        for (const wire::SectorFrame& f : pending.begin()->second)
+            mirror.apply(f);
         pending.erase(pending.begin());
     }
-    // Received frames already applied matter only as the newest of each sector.
-    for (auto& [key, frames] : received) {
-        auto keep = frames.upper_bound(frame);
-        if (keep != frames.begin()) frames.erase(frames.begin(), std::prev(keep));
-    }
+    chain.forget_applied(frame);
 }
 
 WorldFrame Client::State::frame_view(std::uint64_t frame) const {
     WorldFrame out;
     out.frame = frame;
-    for (const auto& [id, v] : view) {
-        BodyView b = v;
-        b.global = grid->to_global(b.position);
-        out.bodies.push_back(b);
+    for (const auto& [key, bodies] : mirror.sectors()) {
+        if (!follows(key)) continue;
+        for (const auto& [id, state] : bodies) {
+            const BodySnapshot s = dds::from_wire(state, key);
+            BodyView b;
+            b.id = s.id;
+            b.position = s.position;
+            b.orientation = s.orientation;
+            b.linear_velocity = s.linear_velocity;
+            b.angular_velocity = s.angular_velocity;
+            b.awake = s.awake;
+            b.global = grid->to_global(b.position);
+            out.bodies.push_back(b);
+        }
     }
     // Planes are not in any sector's frames (each worker holds its own instances): from descriptions.
     for (const auto& [id, d] : descriptions) {

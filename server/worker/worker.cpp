@@ -15,6 +15,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::worker {
@@ -31,6 +32,20 @@ bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
            a.orientation().y() == b.orientation().y() && a.orientation().z() == b.orientation().z() &&
            a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
 }
+
+/// A sector with news is sent whole every this many frames (each sector on its own phase), so that a reader
+/// that missed the base of its partial samples gets the sector back within this many frames.
+constexpr std::uint64_t kCompleteEvery = 30;
+
+/// What readers hold of one owned sector: its members as last sent, and what changed since its last
+/// complete sample. Every partial sample repeats all of it, so a reader needs only the base and the newest.
+struct SectorPublication {
+    std::vector<BodyId> members;  ///< sorted
+    std::uint64_t base = 0;       ///< frame of the last complete sample; 0: none yet, the next is complete
+    bool last_complete = false;
+    std::set<BodyId> changed;   ///< since base, and in the sector now
+    std::set<BodyId> departed;  ///< since base, and not in the sector now
+};
 
 double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -60,13 +75,13 @@ struct Worker::State {
     std::map<std::uint64_t, wire::FrameGo> gos;
     std::vector<BodyDesc> early_descriptions;     ///< before the world exists, in arrival order
     std::deque<wire::SectorFrame> ghost_updates;  ///< other workers' samples, applied frame by frame
-    std::unordered_map<SectorKey, std::uint64_t, SectorKeyHash> latest_sample;  ///< of other workers
+    dds::SectorChain chain;                       ///< which of the other workers' samples are usable
     /// (worker, frame) -> that worker's sectors and the frame of each one's latest sample
     std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<std::pair<SectorKey, std::uint64_t>>> marks;
 
     // What this worker last told the others.
     std::unordered_map<BodyId, wire::BodyState> published;
-    std::unordered_map<SectorKey, std::vector<BodyId>, SectorKeyHash> members;
+    std::map<SectorKey, SectorPublication> publications;  ///< owned sectors as readers hold them
     std::map<SectorKey, std::uint64_t> stamps;  ///< owned sectors and the frame of their latest sample
     std::set<SectorKey> touched;                ///< sectors changed by commands and handoffs this frame
     std::set<BodyId> planes;                    ///< in no sector's samples: readers count them in marks
@@ -158,8 +173,9 @@ void Worker::State::pump() {
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || f.worker() == options.id) return;
-        std::uint64_t& latest = latest_sample[dds::from_wire(f.sector())];
-        latest = std::max(latest, f.frame());
+        // A refused sample still carries true states of the bodies it holds; its sector's others may be
+        // stale, so it does not count as the sector's border data (a complete sample will).
+        if (!chain.accept(f)) spdlog::debug("worker {}: partial sample without its base", options.id);
         ghost_updates.push_back(f);
     });
 }
@@ -292,8 +308,7 @@ bool Worker::State::border_data_ready(std::uint64_t previous) const {
         auto it = marks.find({other, previous});
         if (it == marks.end()) return false;
         for (const auto& [key, stamp] : it->second) {
-            auto seen = latest_sample.find(key);
-            if (seen == latest_sample.end() || seen->second < stamp) return false;
+            if (chain.newest(key) < stamp) return false;
         }
     }
     return true;
@@ -317,6 +332,7 @@ void Worker::State::apply_ghost_updates(std::uint64_t up_to) {
         }
     }
     ghost_updates.swap(later);
+    chain.forget_applied(up_to);
 }
 
 std::vector<SectorKey> Worker::State::publish(bool full) {
@@ -324,7 +340,7 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
     std::set<SectorKey> keys(touched.begin(), touched.end());
     for (const SectorKey& k : w.stepped_sectors())
         keys.insert(k);
-    for (const auto& entry : members)
+    for (const auto& entry : publications)
         keys.insert(entry.first);  // where bodies were: they may have left
     if (full) {
         for (const SectorKey& k : w.sectors())
@@ -333,44 +349,64 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
     std::vector<SectorKey> written;
     for (const SectorKey& key : keys) {
         if (!owns(key)) {
-            // A sector handed to another worker: its new owner writes it, whole, from now on.
-            members.erase(key);
+            // A sector handed to another worker: its new owner writes it, whole first, from now on.
+            publications.erase(key);
             continue;
         }
+        SectorPublication& pub = publications[key];
         std::vector<BodySnapshot> bodies = w.sector_bodies(key);
-        wire::SectorFrame sample;
-        sample.sector(dds::to_wire(key));
-        sample.frame(frame);
-        sample.worker(options.id);
-        sample.epoch(current.epoch);
-        sample.complete(full);
-        // A sector is sent whole, and only when something in it changed: its last sample (durable) is then
-        // all of it, which is what a reader joining late needs.
         std::vector<BodyId> now;
-        bool changed = full;
+        bool news = false;
         for (const BodySnapshot& b : bodies) {
             now.push_back(b.id);
             const wire::BodyState state = dds::to_wire(b);
-            sample.bodies().push_back(state);
             auto last = published.find(b.id);
-            if (last == published.end() || !same_state(last->second, state)) {
-                changed = true;
+            const bool arrived = !std::binary_search(pub.members.begin(), pub.members.end(), b.id);
+            if (arrived || last == published.end() || !same_state(last->second, state)) {
+                news = true;
+                pub.changed.insert(b.id);
+                pub.departed.erase(b.id);
                 published[b.id] = state;
             }
         }
-        std::vector<BodyId>& before = members[key];
-        for (BodyId id : before) {
-            if (!std::binary_search(now.begin(), now.end(), id)) sample.departed().push_back(id);
+        for (BodyId id : pub.members) {
+            if (std::binary_search(now.begin(), now.end(), id)) continue;
+            news = true;
+            pub.changed.erase(id);
+            pub.departed.insert(id);
         }
-        sample.complete(true);
-        changed = changed || !sample.departed().empty();
-        before = now;
-        if (!changed) continue;
+        pub.members = now;
+        // Whole: when a reader may need it (the first frame, a new reader, a sector new to this worker or
+        // emptied), on the sector's phase, and once when it falls quiet, so that the durable last sample of
+        // a quiet sector is all of it. Otherwise only what changed since the base.
+        const bool on_phase = (frame + SectorKeyHash{}(key)) % kCompleteEvery == 0;
+        const bool complete =
+            full || pub.base == 0 || now.empty() || (news && on_phase) || (!news && !pub.last_complete);
+        if (!news && !complete) continue;
+        wire::SectorFrame sample;
+        sample.sector(dds::to_wire(key));
+        sample.frame(frame);
+        sample.base(complete ? frame : pub.base);
+        sample.worker(options.id);
+        sample.epoch(current.epoch);
+        sample.complete(complete);
+        if (complete) {
+            for (const BodySnapshot& b : bodies)
+                sample.bodies().push_back(published[b.id]);
+            pub.base = frame;
+            pub.changed.clear();
+            pub.departed.clear();
+        } else {
+            for (BodyId id : pub.changed)
+                sample.bodies().push_back(published[id]);
+            sample.departed().assign(pub.departed.begin(), pub.departed.end());
+        }
+        pub.last_complete = complete;
         frames_out->write(sample);
         written.push_back(key);
         stamps[key] = frame;
         if (now.empty()) {
-            members.erase(key);
+            publications.erase(key);
             stamps.erase(key);
             frames_out->dispose(sample);  // the sector is gone: a late joiner need not see it
         }
@@ -510,7 +546,9 @@ int Worker::run(const std::atomic<bool>& stop) {
         const auto step_start = Clock::now();
         s.world->step();
         const double step_ms = ms_since(step_start);
-        const bool full = s.frame == 1;  // the first frame: every sector
+        // Every sector whole in the first frame, and when a reader has just matched (a late joiner): it
+        // would otherwise wait for each sector's next complete sample.
+        const bool full = s.frame == 1 || s.frames_out->take_new_matches() > 0;
         const std::vector<SectorKey> written = s.publish(full);
         s.mark(written, full, step_ms, wait_ms);
         // Forget what no longer matters: marks of frames before the previous one.

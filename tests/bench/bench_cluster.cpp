@@ -34,9 +34,10 @@ namespace {
 
 using Clock = std::chrono::system_clock;
 
-/// Bodies drifting without gravity in a lattice 1.5 apart around the origin, at up to 2 units/s: they
-/// cross sectors, and the border between the two workers, all the time.
-Scene drifting(int count) {
+/// Bodies in a lattice 1.5 apart around the origin, without gravity; one in `every` drifting at up to
+/// 2 units/s, crossing sectors and the border between the two workers all the time, the others at rest
+/// until something hits them.
+Scene drifting(int count, int every) {
     Scene s;
     s.settings.sector_size = 8;
     s.settings.sleeping = false;
@@ -49,7 +50,8 @@ Scene drifting(int count) {
                           1.5 * (n / (side * side) - side / 2));
         BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
                            : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
-        b.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
+        const Eigen::Vector3d v(speed(random), speed(random), speed(random));
+        if (n % every == 0) b.linear_velocity = v;
         s.bodies.push_back(b);
     }
     return s;
@@ -162,22 +164,28 @@ ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::u
 
 void run_cluster(const Context& context) {
 #if LPSS_BENCH_DRIVER
-    Table table({"bodies", "workers", "frames", "frames_per_second", "ms_per_frame", "latency_p50_ms",
-                 "latency_p99_ms", "bytes_per_body_frame", "handoffs_per_second", "in_process_ms_per_frame",
-                 "ratio_to_in_process"});
+    Table table({"bodies", "moving", "workers", "frames", "frames_per_second", "ms_per_frame",
+                 "latency_p50_ms", "latency_p99_ms", "bytes_per_body_frame", "handoffs_per_second",
+                 "in_process_ms_per_frame", "ratio_to_in_process"});
     std::filesystem::create_directories(context.out);
     const std::vector<int> counts =
         context.quick ? std::vector<int>{1000} : std::vector<int>{1000, 10000, 50000};
     int domain = 150;
+    // Every body moving, and one in ten (a world mostly at rest: partial sector samples carry the movers).
+    std::vector<std::pair<int, int>> runs;
     for (int n : counts) {
-        progress(fmt::format("cluster: {} bodies on 2 workers", n));
-        const Scene scene = drifting(n);
-        const std::filesystem::path file = context.out / fmt::format("drifting_{}.textproto", n);
+        runs.emplace_back(n, 1);
+        runs.emplace_back(n, 10);
+    }
+    for (const auto& [n, every] : runs) {
+        progress(fmt::format("cluster: {} bodies on 2 workers, 1 in {} moving", n, every));
+        const Scene scene = drifting(n, every);
+        const std::filesystem::path file = context.out / fmt::format("drifting_{}_{}.textproto", n, every);
         std::ofstream(file) << format_scene(scene);
         const std::uint64_t frames = n <= 1000 ? 600 : n <= 10000 ? 200 : 60;
         // The children's logs go to a folder of this run's own, not beside the results.
-        const std::filesystem::path logs =
-            std::filesystem::temp_directory_path() / fmt::format("lpss-bench-cluster-{}-{}", ::getpid(), n);
+        const std::filesystem::path logs = std::filesystem::temp_directory_path() /
+                                           fmt::format("lpss-bench-cluster-{}-{}-{}", ::getpid(), n, every);
         std::filesystem::create_directories(logs);
         progress("cluster: logs in " + logs.string());
         const ClusterRun run = run_cluster(file.string(), scene.bodies.size(), frames, domain++, logs);
@@ -185,25 +193,26 @@ void run_cluster(const Context& context) {
         World world = make_world(scene, EngineOptions{});
         for (int f = 0; f < 10; ++f)
             world.step();
-        const double in_process =
-            ms_per_frame(fmt::format("cluster/in-process/{}", n), world, 1, context.quick ? 0.2 : 1.0);
+        const double in_process = ms_per_frame(fmt::format("cluster/in-process/{}/{}", n, every), world, 1,
+                                               context.quick ? 0.2 : 1.0);
         const double ms = 1e3 / run.frames_per_second;
-        table.add({std::to_string(n), "2", std::to_string(run.frames), num(run.frames_per_second, 4),
-                   num(ms, 4), num(run.latency_p50_ms, 3), num(run.latency_p99_ms, 3),
-                   num(run.bytes_per_body_frame, 4), num(run.handoffs_per_second, 4), num(in_process, 4),
-                   num(ms / in_process, 3)});
+        table.add({std::to_string(n), every == 1 ? "all" : "1/" + std::to_string(every), "2",
+                   std::to_string(run.frames), num(run.frames_per_second, 4), num(ms, 4),
+                   num(run.latency_p50_ms, 3), num(run.latency_p99_ms, 3), num(run.bytes_per_body_frame, 4),
+                   num(run.handoffs_per_second, 4), num(in_process, 4), num(ms / in_process, 3)});
         std::filesystem::remove(file);
     }
     std::string md =
-        "lpss-cluster with 2 workers (as fast as they go, not paced), bodies drifting at up to 2 units/s "
-        "without "
-        "gravity in sectors of 8 (blocks of 4 sectors are what workers own), crossing sectors and the border "
-        "between the workers. frames_per_second: frames "
+        "lpss-cluster with 2 workers (as fast as they go, not paced), bodies in a lattice without gravity "
+        "in sectors of 8 (blocks of 4 sectors are what workers own); all of them, or one in ten (moving), "
+        "drifting at up to 2 units/s, crossing sectors and the border between the workers, the others at "
+        "rest until hit. frames_per_second: frames "
         "over the wall time between the first and last end-of-frame marks the benchmark saw. latency: from a "
         "worker writing its end-of-frame mark (DDS source timestamp) to this process holding that mark and a "
         "sample "
         "of every sector it lists. bytes_per_body_frame: serialized sector-frame payload (CDR, without RTPS "
-        "headers) per body per frame. in_process_ms_per_frame: the same scene on the engine in one process "
+        "headers) per body per frame, partial samples (changed bodies) and complete ones together. "
+        "in_process_ms_per_frame: the same scene on the engine in one process "
         "(Google Benchmark, one thread).\n\n" +
         table.markdown();
     std::string plot = R"(set title 'Frame time: two worker processes against one process'
@@ -211,9 +220,10 @@ set logscale xy
 set xlabel 'bodies'
 set ylabel 'milliseconds per frame'
 set key top left
-plot '$CSV' every ::1 using 1:5 with linespoints pt 7 title 'lpss-cluster, 2 workers', \
-     '$CSV' every ::1 using 1:10 with linespoints pt 5 title 'one process (lpss-sim engine)', \
-     '$CSV' every ::1 using 1:7 with linespoints pt 9 title 'latency p99 (worker to client)'
+plot '$CSV' every 2::1 using 1:6 with linespoints pt 7 title 'lpss-cluster, 2 workers, all moving', \
+     '$CSV' every 2::1 using 1:11 with linespoints pt 5 title 'one process (lpss-sim engine), all moving', \
+     '$CSV' every 2::2 using 1:6 with linespoints pt 6 title 'lpss-cluster, 2 workers, 1 in 10 moving', \
+     '$CSV' every 2::1 using 1:8 with linespoints pt 9 title 'latency p99 (worker to client), all moving'
 )";
     publish(context, "cluster", table, "cluster: the cost of distribution", md, plot);
 #else

@@ -1,0 +1,91 @@
+// Partial sector samples: a reader uses one only on the complete sample it adds to, and rebuilds each
+// sector from complete and partial samples applied in frame order.
+#include <gtest/gtest.h>
+
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sector_mirror.hpp"
+
+namespace lpss::dds {
+namespace {
+
+const SectorKey kSector{3, -1, 7};
+
+wire::BodyState state_of(BodyId id, double x) {
+    BodySnapshot b;
+    b.id = id;
+    b.position = SectorPosition{kSector, Eigen::Vector3d(x, 0, 0)};
+    return to_wire(b);
+}
+
+wire::SectorFrame complete(std::uint64_t frame, std::vector<wire::BodyState> bodies) {
+    wire::SectorFrame f;
+    f.sector(to_wire(kSector));
+    f.frame(frame);
+    f.base(frame);
+    f.complete(true);
+    f.bodies(std::move(bodies));
+    return f;
+}
+
+wire::SectorFrame partial(std::uint64_t frame, std::uint64_t base, std::vector<wire::BodyState> bodies,
+                          std::vector<std::uint64_t> departed = {}) {
+    wire::SectorFrame f = complete(frame, std::move(bodies));
+    f.base(base);
+    f.complete(false);
+    f.departed(std::move(departed));
+    return f;
+}
+
+TEST(SectorChain, APartialSampleNeedsTheSectorHeldFromItsBaseOn) {
+    SectorChain chain;
+    EXPECT_FALSE(chain.accept(partial(11, 10, {})));  // joined late: the base was never seen
+    EXPECT_EQ(chain.refused(), 1u);
+    EXPECT_EQ(chain.newest(kSector), 0u);
+    EXPECT_TRUE(chain.accept(complete(20, {})));
+    EXPECT_TRUE(chain.accept(partial(21, 20, {})));
+    EXPECT_TRUE(chain.accept(partial(24, 20, {})));   // 22 and 23 lost: 24 still holds every change since 20
+    EXPECT_FALSE(chain.accept(partial(31, 30, {})));  // the complete sample of frame 30 was lost
+    EXPECT_EQ(chain.newest(kSector), 24u);
+    EXPECT_TRUE(chain.holds(kSector, 22, 25));
+    EXPECT_FALSE(chain.holds(kSector, 25, 40));
+}
+
+TEST(SectorChain, ASampleArrivingLateIsUsableOnAnEarlierFrameItHolds) {
+    // Two writers at an ownership change: the new owner's complete sample may arrive before the old
+    // owner's last partial one, which still applies (in frame order) on the frames held before it.
+    SectorChain chain;
+    EXPECT_TRUE(chain.accept(complete(10, {})));
+    EXPECT_TRUE(chain.accept(complete(13, {})));
+    EXPECT_TRUE(chain.accept(partial(12, 10, {})));
+    EXPECT_FALSE(chain.accept(partial(9, 8, {})));  // before anything held
+}
+
+TEST(SectorChain, ForgettingAppliedFramesKeepsTheNewestOfEachSector) {
+    SectorChain chain;
+    chain.accept(complete(10, {}));
+    chain.accept(partial(11, 10, {}));
+    chain.accept(partial(15, 10, {}));
+    chain.forget_applied(12);
+    EXPECT_FALSE(chain.holds(kSector, 10, 10));
+    EXPECT_TRUE(chain.holds(kSector, 11, 11));
+    EXPECT_TRUE(chain.accept(partial(16, 10, {})));  // 11 and 15 still hold the base's sector
+}
+
+TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
+    SectorMirror mirror;
+    mirror.apply(complete(10, {state_of(1, 1.0), state_of(2, 2.0), state_of(3, 3.0)}));
+    mirror.apply(partial(11, 10, {state_of(2, 2.5)}, {3}));
+    const SectorMirror::Bodies& bodies = mirror.sectors().at(kSector);
+    ASSERT_EQ(bodies.size(), 2u);
+    EXPECT_EQ(bodies.at(1).position().x(), 1.0f);  // unchanged, not resent
+    EXPECT_EQ(bodies.at(2).position().x(), 2.5f);
+    mirror.apply(complete(12, {state_of(4, 4.0)}));  // whole: what is not in it is not in the sector
+    EXPECT_EQ(mirror.sectors().at(kSector).size(), 1u);
+    EXPECT_EQ(mirror.sectors().at(kSector).count(4), 1u);
+    mirror.apply(complete(13, {}));
+    EXPECT_TRUE(mirror.sectors().empty());
+}
+
+}  // namespace
+}  // namespace lpss::dds
