@@ -21,6 +21,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// A rebalance is made only if it brings the heaviest worker's load down to this share of what it is.
+constexpr double kRebalanceGain = 0.85;
+
 /// What the coordinator knows of a body: enough to validate commands and describe it.
 struct BodyEntry {
     BodyDesc desc;
@@ -50,9 +53,15 @@ struct Coordinator::State {
     std::set<std::uint32_t> live;
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
-    std::map<SectorKey, float> block_loads;  ///< latest reported load of each block
-    std::vector<wire::Handoff> grants;       ///< for the next frame
-    std::vector<wire::Command> commands;     ///< accepted, for the next frame
+    /// The load of each block with bodies, as its owner last reported it. A worker's report replaces what
+    /// it reported before: a block it no longer reports has emptied, or another worker reports it.
+    struct ReportedLoad {
+        float load = 0.0f;
+        std::uint32_t worker = 0;
+    };
+    std::map<SectorKey, ReportedLoad> block_loads;
+    std::vector<wire::Handoff> grants;    ///< for the next frame
+    std::vector<wire::Command> commands;  ///< accepted, for the next frame
     std::vector<std::uint64_t> command_order;
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
@@ -67,7 +76,10 @@ struct Coordinator::State {
     void apply_to_registry(const wire::FrameGo& go);
     bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
     void collect_handoffs(std::uint64_t f);
+    SectorAssignment balanced() const;
+    std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(std::uint64_t from_frame, const char* why);
+    void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
     SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
 };
 
@@ -121,8 +133,12 @@ void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
         last_heard[m.worker()] = Clock::now();
-        for (const wire::BlockLoad& l : m.loads())
-            block_loads[dds::from_wire(l.block())] = l.load();
+        if (m.loads_reported()) {
+            for (auto it = block_loads.begin(); it != block_loads.end();)
+                it = it->second.worker == m.worker() ? block_loads.erase(it) : std::next(it);
+            for (const wire::BlockLoad& l : m.loads())
+                block_loads[dds::from_wire(l.block())] = ReportedLoad{l.load(), m.worker()};
+        }
         marks[{m.worker(), m.frame()}] = m;
     });
 }
@@ -269,21 +285,37 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
         it = it->first.second < f ? marks.erase(it) : std::next(it);
 }
 
-void Coordinator::State::reassign(std::uint64_t from_frame, const char* why) {
+SectorAssignment Coordinator::State::balanced() const {
     std::vector<std::pair<SectorKey, double>> loads;
-    for (const auto& [block, load] : block_loads) {
+    for (const auto& [block, reported] : block_loads) {
         // A block's load stands for its first sector: balanced() groups sectors into the same blocks.
         loads.push_back(
             {SectorKey{block.i * next.block_size, block.j * next.block_size, block.k * next.block_size},
-             static_cast<double>(load)});
+             static_cast<double>(reported.load)});
     }
     if (loads.empty()) {
         for (const auto& [id, e] : bodies) {
             if (!is_plane(e.desc.shape)) loads.push_back({e.state.position.sector, 1.0});
         }
     }
-    SectorAssignment fresh = SectorAssignment::balanced(
-        loads, std::vector<std::uint32_t>(live.begin(), live.end()), options.block_size);
+    return SectorAssignment::balanced(loads, std::vector<std::uint32_t>(live.begin(), live.end()),
+                                      options.block_size);
+}
+
+std::map<std::uint32_t, double> Coordinator::State::worker_loads(const SectorAssignment& assignment) const {
+    std::map<std::uint32_t, double> per_worker;
+    for (const auto& [block, reported] : block_loads) {
+        const std::int64_t n = current.block_size;  // the blocks the workers reported in
+        per_worker[assignment.owner_of({block.i * n, block.j * n, block.k * n})] += reported.load;
+    }
+    return per_worker;
+}
+
+void Coordinator::State::reassign(std::uint64_t from_frame, const char* why) {
+    reassign(balanced(), from_frame, why);
+}
+
+void Coordinator::State::reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why) {
     fresh.epoch = next.epoch + 1;
     fresh.from_frame = from_frame;
     next = fresh;
@@ -393,18 +425,36 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
             s.next.epoch == s.current.epoch) {
-            std::map<std::uint32_t, double> per_worker;
-            for (const auto& [block, load] : s.block_loads) {
-                per_worker[s.current.owner_of({block.i * s.current.block_size, block.j * s.current.block_size,
-                                               block.k * s.current.block_size})] += load;
-            }
-            double total = 0.0, most = 0.0;
-            for (const auto& [w, l] : per_worker) {
+            auto heaviest = [](const std::map<std::uint32_t, double>& loads) {
+                double most = 0.0;
+                for (const auto& [w, l] : loads)
+                    most = std::max(most, l);
+                return most;
+            };
+            const std::map<std::uint32_t, double> now = s.worker_loads(s.current);
+            double total = 0.0;
+            for (const auto& [w, l] : now)
                 total += l;
-                most = std::max(most, l);
-            }
+            const double most = heaviest(now);
             const double mean = total / static_cast<double>(s.live.size());
-            if (mean > 0.0 && most > o.rebalance_threshold * mean) s.reassign(f + 2, "load shifted");
+            if (mean > 0.0 && most > o.rebalance_threshold * mean) {
+                // Moving sectors costs handoffs: only for a clear gain, else a load that shifts back and
+                // forth would move the same sectors back and forth.
+                SectorAssignment fresh = s.balanced();
+                const double after = heaviest(s.worker_loads(fresh));
+                if (after <= kRebalanceGain * most) {
+                    spdlog::info(
+                        "coordinator: frame {}: the busiest worker carries {:.0f} against a mean of "
+                        "{:.0f}; a new assignment brings it to {:.0f}",
+                        f, most, mean, after);
+                    s.reassign(std::move(fresh), f + 2, "load shifted");
+                } else {
+                    spdlog::debug(
+                        "coordinator: frame {}: load uneven ({:.0f} against a mean of {:.0f}), but a "
+                        "new assignment would carry {:.0f} at most: kept",
+                        f, most, mean, after);
+                }
+            }
         }
         if (Clock::now() - last_log > std::chrono::seconds(5)) {
             last_log = Clock::now();

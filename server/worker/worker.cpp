@@ -485,6 +485,7 @@ void Worker::State::mark(const std::vector<SectorKey>& written, bool full, doubl
         l.load(load);
         m.loads().push_back(l);
     }
+    m.loads_reported(report_loads);
     m.bodies(owned);
     m.planes(static_cast<std::uint32_t>(planes.size()));
     m.awake(awake);

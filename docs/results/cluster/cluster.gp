@@ -6,6 +6,7 @@ set logscale xy
 set xlabel 'bodies'
 set ylabel 'milliseconds per frame'
 set key top left
-plot 'docs/results/cluster/cluster.csv' every ::1 using 1:5 with linespoints pt 7 title 'lpss-cluster, 2 workers', \
-     'docs/results/cluster/cluster.csv' every ::1 using 1:10 with linespoints pt 5 title 'one process (lpss-sim engine)', \
-     'docs/results/cluster/cluster.csv' every ::1 using 1:7 with linespoints pt 9 title 'latency p99 (worker to client)'
+plot 'docs/results/cluster/cluster.csv' every 2::1 using 1:6 with linespoints pt 7 title 'lpss-cluster, 2 workers, all moving', \
+     'docs/results/cluster/cluster.csv' every 2::1 using 1:11 with linespoints pt 5 title 'one process (lpss-sim engine), all moving', \
+     'docs/results/cluster/cluster.csv' every 2::2 using 1:6 with linespoints pt 6 title 'lpss-cluster, 2 workers, 1 in 10 moving', \
+     'docs/results/cluster/cluster.csv' every 2::1 using 1:8 with linespoints pt 9 title 'latency p99 (worker to client), all moving'
