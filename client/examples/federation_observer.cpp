@@ -27,8 +27,14 @@ int main(int argc, char** argv) {
         return 3;
     }
     std::uint64_t seen = 0;
+    auto last_frame = std::chrono::steady_clock::now();
     while (seen < frames) {
+        if (std::chrono::steady_clock::now() - last_frame > std::chrono::seconds(30)) {
+            fmt::print(stderr, "no frame for 30 s: the cluster has stopped\n");
+            return 4;
+        }
         for (const lpss::WorldFrame& f : (*client)->poll(std::chrono::milliseconds(100))) {
+            last_frame = std::chrono::steady_clock::now();
             if (++seen % 60 != 0) continue;
             fmt::print("frame {}: {} bodies in the region\n", f.frame, f.bodies.size());
             for (const lpss::BodyView& b : f.bodies) {

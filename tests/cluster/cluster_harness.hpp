@@ -86,6 +86,12 @@ inline std::unique_ptr<Client> connect(int domain, const std::string& name,
     return std::move(client).value();
 }
 
+/// The whole of a file (a log, a program's output); empty if it cannot be read.
+inline std::string read_file(const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 /// Polls until frame `last` has been seen (or the limit passes); returns every frame seen, by number.
 inline std::map<std::uint64_t, WorldFrame> collect(Client& client, std::uint64_t last,
                                                    std::chrono::seconds limit = std::chrono::seconds(120)) {

@@ -26,6 +26,7 @@ namespace {
 
 using testing::collect;
 using testing::connect;
+using testing::read_file;
 using testing::start_cluster;
 using testing::write_scene;
 
@@ -274,8 +275,7 @@ TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
         "with a body twice, %zu with a body missing; %zu partial samples, %zu refused for a missing base\n",
         check.checked, check.skipped, check.doubled, check.incomplete, check.partial, check.refused());
     // The handoffs really happened.
-    std::ifstream summary(cluster.log_dir + ".out");
-    std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+    const std::string text = read_file(cluster.log_dir + ".out");
     EXPECT_EQ(text.find("handoffs 0 "), std::string::npos) << text;
 }
 
@@ -316,8 +316,7 @@ TEST(Cluster, SectorsMoveBetweenWorkersWhenTheLoadShifts) {
     for (int n = 0; n < 20; ++n)
         check.poll();
     EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
-    std::ifstream log(cluster.log_dir + "/coordinator.log");
-    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     // Rebalances follow the balls while they fly; once they rest against the wall (by frame 210) the
     // load stands still, and one more rebalance may catch up with it, but no more: a later one would move
     // sectors back and forth for nothing.
@@ -362,8 +361,7 @@ TEST(Cluster, ALoadNoCutCanSpreadMovesNoSectors) {
     while (cluster.process->running() && std::chrono::steady_clock::now() < deadline)
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
-    std::ifstream log(cluster.log_dir + "/coordinator.log");
-    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     EXPECT_NE(text.find("stopping after frame 400"), std::string::npos) << text;
     EXPECT_EQ(text.find("(load shifted)"), std::string::npos) << text;
 }
@@ -389,8 +387,7 @@ TEST(Cluster, AWorkerThatDiesHandsItsSectorsToTheOthers) {
     ASSERT_FALSE(after.empty());
     EXPECT_GT(after.rbegin()->first, killed_at + 300) << "frames go on after the death";
     EXPECT_EQ(after.rbegin()->second.bodies.size(), scene.bodies.size());
-    std::ifstream log(cluster.log_dir + "/coordinator.log");
-    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     EXPECT_NE(text.find("worker 2 stopped answering"), std::string::npos) << text;
     cluster.process->stop();
 }
@@ -576,6 +573,44 @@ std::set<std::string> segments_of(const std::string& pid) {
         names.insert(name + "_el");
     }
     return names;
+}
+
+TEST(Cluster, TheExamplesRunAgainstTheExampleScene) {
+    const int domain = 132;
+    const testing::DomainCleanup cleanup(domain);
+    auto cluster =
+        start_cluster(std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/far_stacks.textproto", domain, 2, 1800);
+    ASSERT_TRUE(cluster.process);
+    const std::string game_out = cluster.log_dir + "-game.out",
+                      observer_out = cluster.log_dir + "-observer.out";
+    auto game = runtime::ChildProcess::start(LPSS_EXAMPLE_GAME, {std::to_string(domain), "3"}, game_out);
+    auto observer =
+        runtime::ChildProcess::start(LPSS_EXAMPLE_OBSERVER, {std::to_string(domain), "120"}, observer_out);
+    ASSERT_TRUE(game && observer);
+    EXPECT_TRUE(game->wait(std::chrono::seconds(60)));
+    EXPECT_TRUE(observer->wait(std::chrono::seconds(60)));
+    EXPECT_EQ(game->exit_code().value_or(-1), 0) << read_file(game_out);
+    EXPECT_EQ(observer->exit_code().value_or(-1), 0) << read_file(observer_out);
+    cluster.process->stop();
+
+    // The game backend spawned its four players and saw them move.
+    const std::string game_text = read_file(game_out);
+    for (int n = 0; n < 4; ++n)
+        EXPECT_NE(game_text.find("player " + std::to_string(9000 + n) + " spawned at frame"),
+                  std::string::npos)
+            << game_text;
+    EXPECT_NE(game_text.find("player 9000 at ("), std::string::npos) << game_text;
+    // The observer saw the stack 1e9 units out, in double global coordinates, and nothing from elsewhere.
+    std::istringstream lines(read_file(observer_out));
+    std::size_t far = 0, near = 0;
+    for (std::string line; std::getline(lines, line);) {
+        const std::size_t open = line.find('(');
+        if (line.rfind("  ", 0) != 0 || open == std::string::npos) continue;
+        const double x = std::stod(line.substr(open + 1));
+        (std::abs(x - 1e9) < 100.0 ? far : near) += 1;
+    }
+    EXPECT_GE(far, 6u) << read_file(observer_out);  // five boxes and the ball, at each report
+    EXPECT_EQ(near, 0u) << read_file(observer_out);
 }
 
 TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
