@@ -5,6 +5,7 @@
 
 #include <map>
 #include <unordered_map>
+#include <vector>
 
 #include "lpss.h"
 #include "lpss/common/body_desc.hpp"
@@ -17,7 +18,8 @@ public:
     using Bodies = std::map<BodyId, wire::BodyState>;
     using Sectors = std::unordered_map<SectorKey, Bodies, SectorKeyHash>;
 
-    void apply(const wire::SectorFrame& sample);
+    /// Applies a sample; the bodies that left the sector with it are added to `left` if given.
+    void apply(const wire::SectorFrame& sample, std::vector<BodyId>* left = nullptr);
     const Sectors& sectors() const { return sectors_; }
 
 private:

@@ -32,7 +32,7 @@ std::filesystem::path own_directory() {
 /// What the workers said about their latest frame.
 struct WorkerSeen {
     std::uint64_t frame = 0;
-    std::uint32_t bodies = 0, awake = 0, sectors = 0, clones = 0, degraded = 0;
+    std::uint32_t bodies = 0, awake = 0, sectors = 0, ghosts = 0, clones = 0, degraded = 0;
     float step_ms = 0, wait_ms = 0;
 };
 
@@ -133,11 +133,12 @@ int main(int argc, char** argv) {
     std::uint64_t printed_frame = 0;
     auto print = [&](bool final) {
         std::uint32_t bodies = 0, degraded = 0;
-        std::string per_worker;
+        std::string per_worker, ghosts;
         for (const auto& [w, s] : seen) {
             bodies += s.bodies;
             degraded += s.degraded;
             per_worker += fmt::format(" {}:{}", w, s.sectors);
+            ghosts += fmt::format(" {}:{}", w, s.ghosts);
         }
         const double elapsed = std::chrono::duration<double>(Clock::now() - last_print).count();
         const double rate =
@@ -145,8 +146,10 @@ int main(int argc, char** argv) {
                         std::max(1e-9, std::chrono::duration<double>(Clock::now() - first_time).count())
                   : (last_frame - printed_frame) / std::max(1e-9, elapsed);
         fmt::print(
-            "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  handoffs {}  degraded {}\n",
-            final ? "done: " : "", last_frame, rate, bodies, per_worker, handoffs, degraded);
+            "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  ghosts per worker{}  "
+            "handoffs "
+            "{}  degraded {}\n",
+            final ? "done: " : "", last_frame, rate, bodies, per_worker, ghosts, handoffs, degraded);
         std::fflush(stdout);
         printed_frame = last_frame;
         last_print = Clock::now();
@@ -159,7 +162,7 @@ int main(int argc, char** argv) {
             if (!info.valid_data || m.frame() == 0) return;
             WorkerSeen& s = seen[m.worker()];
             if (m.frame() <= s.frame) return;
-            s = WorkerSeen{m.frame(),  m.bodies(),   m.awake(),   m.sector_count(),
+            s = WorkerSeen{m.frame(),  m.bodies(),   m.awake(),   m.sector_count(), m.ghosts(),
                            m.clones(), m.degraded(), m.step_ms(), m.wait_ms()};
             handoffs += m.leaving().size();
             if (first_frame == 0) {

@@ -16,6 +16,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::worker {
@@ -37,14 +38,41 @@ bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
 /// that missed the base of its partial samples gets the sector back within this many frames.
 constexpr std::uint64_t kCompleteEvery = 30;
 
-/// What readers hold of one owned sector: its members as last sent, and what changed since its last
-/// complete sample. Every partial sample repeats all of it, so a reader needs only the base and the newest.
+/// What readers hold of one owned sector: its members as last sent, and what changed since the complete
+/// sample before its last one. Partial samples repeat all of it and name that sample as their base, so a
+/// reader needs only some sample from the base on and the newest: it can lose any partial sample and one
+/// complete sample (a slow reader, whose samples newer ones replaced in the writer's history) unharmed.
 struct SectorPublication {
-    std::vector<BodyId> members;  ///< sorted
-    std::uint64_t base = 0;       ///< frame of the last complete sample; 0: none yet, the next is complete
+    std::vector<BodyId> members;    ///< sorted
+    std::uint64_t last = 0;         ///< frame of the last complete sample; 0: none yet, the next is complete
+    std::uint64_t before_last = 0;  ///< frame of the one before it (0: none, partial samples rest on `last`)
     bool last_complete = false;
-    std::set<BodyId> changed;   ///< since base, and in the sector now
-    std::set<BodyId> departed;  ///< since base, and not in the sector now
+    std::set<BodyId> changed;           ///< since before_last, and in the sector now
+    std::set<BodyId> departed;          ///< since before_last, and not in the sector now
+    std::set<BodyId> changed_recently;  ///< the same since last: the next complete sample's partial ones
+    std::set<BodyId> departed_recently;
+
+    void body_changed(BodyId id) {
+        changed.insert(id);
+        changed_recently.insert(id);
+        departed.erase(id);
+        departed_recently.erase(id);
+    }
+    void body_left(BodyId id) {
+        departed.insert(id);
+        departed_recently.insert(id);
+        changed.erase(id);
+        changed_recently.erase(id);
+    }
+    std::uint64_t base() const { return before_last ? before_last : last; }
+    void sent_complete(std::uint64_t frame) {
+        before_last = last;
+        last = frame;
+        changed = std::move(changed_recently);
+        departed = std::move(departed_recently);
+        changed_recently.clear();
+        departed_recently.clear();
+    }
 };
 
 double ms_since(Clock::time_point t) {
@@ -73,9 +101,10 @@ struct Worker::State {
 
     // Received and not yet used.
     std::map<std::uint64_t, wire::FrameGo> gos;
-    std::vector<BodyDesc> early_descriptions;     ///< before the world exists, in arrival order
-    std::deque<wire::SectorFrame> ghost_updates;  ///< other workers' samples, applied frame by frame
-    dds::SectorChain chain;                       ///< which of the other workers' samples are usable
+    std::vector<BodyDesc> early_descriptions;  ///< before the world exists, in arrival order
+    /// Other workers' samples, applied frame by frame; whether each was usable (SectorChain).
+    std::deque<std::pair<wire::SectorFrame, bool>> ghost_updates;
+    dds::SectorChain chain;
     /// (worker, frame) -> that worker's sectors and the frame of each one's latest sample
     std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<std::pair<SectorKey, std::uint64_t>>> marks;
 
@@ -86,7 +115,23 @@ struct Worker::State {
     std::set<SectorKey> touched;                ///< sectors changed by commands and handoffs this frame
     std::set<BodyId> planes;                    ///< in no sector's samples: readers count them in marks
 
+    // The halo: the engine holds this worker's own sectors and, as ghosts, the bodies of the sectors next
+    // to them, the only ones that can be cloned into its sectors. The rest of the world is kept as wire
+    // states and descriptions, so that a body entering the halo, or handed over, can be built.
+    dds::SectorMirror others;                      ///< other workers' sectors as of the last frame applied
+    std::unordered_map<BodyId, BodyDesc> catalog;  ///< every body's description
+    std::unordered_map<SectorKey, bool, SectorKeyHash> halo_cache;  ///< for the assignment in force
+    std::set<SectorKey> arrivals;  ///< sectors whose samples were applied this frame
+    std::vector<BodyId> leavers;   ///< bodies that left a sector with those samples
+    bool halo_moved = false;       ///< the assignment changed: the whole halo is checked again
+    std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> publisher;  ///< of each sector's last sample
+    std::set<std::uint32_t> gone;  ///< workers dropped from the assignment: nobody hands their bodies over
+
     bool owns(const SectorKey& key) const { return current.owner_of(key) == options.id; }
+    bool in_halo(const SectorKey& key);
+    bool wanted(const SectorKey& key) { return owns(key) || in_halo(key); }
+    Status build(BodyId id, const BodySnapshot& state);
+    void sync_halo(bool full);
     void pump();
     bool start_world(const wire::FrameGo& go);
     void apply_go(const wire::FrameGo& go);
@@ -175,8 +220,9 @@ void Worker::State::pump() {
         if (!info.valid_data || f.worker() == options.id) return;
         // A refused sample still carries true states of the bodies it holds; its sector's others may be
         // stale, so it does not count as the sector's border data (a complete sample will).
-        if (!chain.accept(f)) spdlog::debug("worker {}: partial sample without its base", options.id);
-        ghost_updates.push_back(f);
+        const bool usable = chain.accept(f);
+        if (!usable) spdlog::debug("worker {}: partial sample without its base", options.id);
+        ghost_updates.emplace_back(f, usable);
     });
 }
 
@@ -205,19 +251,27 @@ bool Worker::State::start_world(const wire::FrameGo& go) {
         return false;
     }
     world.emplace(std::move(created).value());
-    if (Status st = world->add_bodies(early_descriptions); !st) {
+    // Its own bodies, the ghosts of its halo and the planes; the others only described.
+    std::vector<BodyDesc> held;
+    for (BodyDesc& body : early_descriptions) {
+        if (is_plane(body.shape)) planes.insert(body.id);
+        const auto* at = std::get_if<SectorPosition>(&body.position);
+        Expected<SectorPosition> place =
+            at ? world->grid().canonical(*at)
+               : world->grid().from_global(std::get<Eigen::Vector3d>(body.position));
+        if (is_plane(body.shape) || !place || wanted(place->sector)) held.push_back(body);
+        catalog[body.id] = std::move(body);
+    }
+    if (Status st = world->add_bodies(held); !st) {
         spdlog::error("worker {}: bodies refused: {}", options.id, st.error().message);
         return false;
-    }
-    for (const BodyDesc& body : early_descriptions) {
-        if (is_plane(body.shape)) planes.insert(body.id);
     }
     early_descriptions.clear();
     std::size_t ghosts = 0;
     for (const BodySnapshot& b : world->snapshot())
         ghosts += world->is_ghost(b.id) ? 1 : 0;
-    spdlog::info("worker {}: {} bodies, {} of them its own", options.id, world->body_count(),
-                 world->body_count() - ghosts);
+    spdlog::info("worker {}: {} of {} bodies, {} of them its own", options.id, world->body_count(),
+                 catalog.size(), world->body_count() - ghosts);
     return true;
 }
 
@@ -245,10 +299,14 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
                 return w.grid().canonical(std::get<SectorPosition>(body.position));
             }();
             const bool mine = at && owns(at->sector);
-            Status st = w.add_body(body);
+            // Its owner and the workers whose halo it is in hold it; the others only know it.
+            const bool held = is_plane(body.shape) || !at || wanted(at->sector);
+            Status st = held ? w.add_body(body) : Status{};
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
-            if (st.ok() && at) touched.insert(at->sector);
-            if (st.ok() && is_plane(body.shape)) planes.insert(body.id);
+            if (!st.ok()) break;
+            catalog[body.id] = body;
+            if (at) touched.insert(at->sector);
+            if (is_plane(body.shape)) planes.insert(body.id);
             break;
         }
         case wire::kCommandRemove: {  // every worker removes its copy
@@ -256,10 +314,13 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
             std::optional<BodySnapshot> before = w.body(c.body());
             const bool mine =
                 before && (planes.count(c.body()) ? owns(before->position.sector) : !w.is_ghost(c.body()));
-            Status st = w.remove_body(c.body());
+            Status st = before ? w.remove_body(c.body()) : Status{};
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             if (before) touched.insert(before->position.sector);
-            if (st.ok()) planes.erase(c.body());
+            if (st.ok()) {
+                planes.erase(c.body());
+                catalog.erase(c.body());
+            }
             break;
         }
         case wire::kCommandImpulse:
@@ -281,8 +342,13 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
     SectorAssignment announced = dds::from_wire(go.next());
     if (announced.epoch != next.epoch) next = announced;
     if (next.epoch != current.epoch && next.from_frame <= go.frame()) {
+        for (std::uint32_t w : current.workers) {
+            if (std::find(next.workers.begin(), next.workers.end(), w) == next.workers.end()) gone.insert(w);
+        }
         current = next;
         world->set_ownership([this](const SectorKey& key) { return owns(key); });
+        halo_cache.clear();
+        halo_moved = true;
         spdlog::info("worker {}: assignment epoch {} from frame {}", options.id, current.epoch, go.frame());
     }
     // Bodies changing hands: every worker moves its copy to the state the old owner handed over, exactly;
@@ -290,7 +356,14 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
     for (const wire::Handoff& h : go.handoffs()) {
         BodySnapshot state = dds::from_wire(h.state(), dds::from_wire(h.sector()));
         state.position.local = dds::from_wire(h.precise_position());
-        if (!world->contains(h.body())) continue;
+        if (!world->contains(h.body())) {
+            // Handed over from outside the halo (sectors that move in a rebalance): built here.
+            if (h.to_worker() != options.id) continue;
+            if (Status st = build(h.body(), state); !st)
+                spdlog::error("worker {}: handoff of body {}: {}", options.id, h.body(), st.error().message);
+            touched.insert(state.position.sector);
+            continue;
+        }
         if (Status st = world->set_state(state); !st)
             spdlog::warn("worker {}: handoff: {}", options.id, st.error().message);
         touched.insert(state.position.sector);
@@ -316,10 +389,10 @@ bool Worker::State::border_data_ready(std::uint64_t previous) const {
 
 void Worker::State::apply_ghost_updates(std::uint64_t up_to) {
     // Samples of later frames stay queued: a faster worker's future must not leak into this frame.
-    std::deque<wire::SectorFrame> later;
-    for (const wire::SectorFrame& f : ghost_updates) {
+    std::deque<std::pair<wire::SectorFrame, bool>> later;
+    for (const auto& [f, usable] : ghost_updates) {
         if (f.frame() > up_to) {
-            later.push_back(f);
+            later.emplace_back(f, usable);
             continue;
         }
         const SectorKey key = dds::from_wire(f.sector());
@@ -330,9 +403,84 @@ void Worker::State::apply_ghost_updates(std::uint64_t up_to) {
                 }
             }
         }
+        if (usable) {
+            others.apply(f, &leavers);
+            publisher[key] = f.worker();
+            arrivals.insert(key);
+        }
     }
     ghost_updates.swap(later);
     chain.forget_applied(up_to);
+}
+
+bool Worker::State::in_halo(const SectorKey& key) {
+    auto cached = halo_cache.find(key);
+    if (cached != halo_cache.end()) return cached->second;
+    bool next_to_own = false;
+    if (!owns(key)) {
+        for (int di = -1; di <= 1 && !next_to_own; ++di)
+            for (int dj = -1; dj <= 1 && !next_to_own; ++dj)
+                for (int dk = -1; dk <= 1 && !next_to_own; ++dk)
+                    next_to_own = owns(SectorKey{key.i + di, key.j + dj, key.k + dk});
+    }
+    return halo_cache[key] = next_to_own;
+}
+
+Status Worker::State::build(BodyId id, const BodySnapshot& state) {
+    auto known = catalog.find(id);
+    if (known == catalog.end()) return Error{"no description of body " + std::to_string(id)};
+    BodyDesc body = known->second;
+    body.position = state.position;
+    body.orientation = state.orientation;
+    body.linear_velocity = state.linear_velocity;
+    body.angular_velocity = state.angular_velocity;
+    if (Status st = world->add_body(body); !st) return st;
+    return body.mass > 0.0 ? world->set_state(state) : Status{};
+}
+
+void Worker::State::sync_halo(bool full) {
+    World& w = *world;
+    // Ghosts that left the halo go: they cannot touch this worker's sectors any more.
+    auto drop_if_outside = [&](BodyId id) {
+        if (!w.contains(id) || !w.is_ghost(id) || planes.count(id)) return;
+        if (!in_halo(w.body(id)->position.sector)) (void)w.remove_body(id);
+    };
+    if (full) {
+        for (const BodySnapshot& b : w.snapshot())
+            drop_if_outside(b.id);
+    } else {
+        for (BodyId id : leavers)
+            drop_if_outside(id);
+    }
+    // Bodies of halo sectors become ghosts. Of sectors newly owned, the static bodies, which no handoff
+    // brings, become this worker's own; and all bodies of a worker that is gone, from its last samples.
+    auto adopt = [&](const SectorKey& key, const dds::SectorMirror::Bodies& bodies) {
+        const bool own = owns(key);
+        if (!own && !in_halo(key)) return;
+        auto last = publisher.find(key);
+        const bool orphaned = own && last != publisher.end() && gone.count(last->second);
+        for (const auto& [id, state] : bodies) {
+            if (w.contains(id)) continue;
+            auto known = catalog.find(id);
+            if (known == catalog.end() || (own && !orphaned && known->second.mass > 0.0)) continue;
+            if (Status st = build(id, dds::from_wire(state, key)); !st)
+                spdlog::warn("worker {}: cannot hold body {}: {}", options.id, id, st.error().message);
+            else if (orphaned)
+                spdlog::info("worker {}: body {} taken over from worker {}, as it last published it",
+                             options.id, id, last->second);
+        }
+    };
+    if (full) {
+        for (const auto& [key, bodies] : others.sectors())
+            adopt(key, bodies);
+    } else {
+        for (const SectorKey& key : arrivals) {
+            auto it = others.sectors().find(key);
+            if (it != others.sectors().end()) adopt(key, it->second);
+        }
+    }
+    arrivals.clear();
+    leavers.clear();
 }
 
 std::vector<SectorKey> Worker::State::publish(bool full) {
@@ -364,16 +512,14 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
             const bool arrived = !std::binary_search(pub.members.begin(), pub.members.end(), b.id);
             if (arrived || last == published.end() || !same_state(last->second, state)) {
                 news = true;
-                pub.changed.insert(b.id);
-                pub.departed.erase(b.id);
+                pub.body_changed(b.id);
                 published[b.id] = state;
             }
         }
         for (BodyId id : pub.members) {
             if (std::binary_search(now.begin(), now.end(), id)) continue;
             news = true;
-            pub.changed.erase(id);
-            pub.departed.insert(id);
+            pub.body_left(id);
         }
         pub.members = now;
         // Whole: when a reader may need it (the first frame, a new reader, a sector new to this worker or
@@ -381,21 +527,19 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         // a quiet sector is all of it. Otherwise only what changed since the base.
         const bool on_phase = (frame + SectorKeyHash{}(key)) % kCompleteEvery == 0;
         const bool complete =
-            full || pub.base == 0 || now.empty() || (news && on_phase) || (!news && !pub.last_complete);
+            full || pub.last == 0 || now.empty() || (news && on_phase) || (!news && !pub.last_complete);
         if (!news && !complete) continue;
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(key));
         sample.frame(frame);
-        sample.base(complete ? frame : pub.base);
+        sample.base(complete ? frame : pub.base());
         sample.worker(options.id);
         sample.epoch(current.epoch);
         sample.complete(complete);
         if (complete) {
             for (const BodySnapshot& b : bodies)
                 sample.bodies().push_back(published[b.id]);
-            pub.base = frame;
-            pub.changed.clear();
-            pub.departed.clear();
+            pub.sent_complete(frame);
         } else {
             for (BodyId id : pub.changed)
                 sample.bodies().push_back(published[id]);
@@ -490,6 +634,7 @@ void Worker::State::mark(const std::vector<SectorKey>& written, bool full, doubl
     m.planes(static_cast<std::uint32_t>(planes.size()));
     m.awake(awake);
     m.sector_count(sectors);
+    m.ghosts(static_cast<std::uint32_t>(w.body_count() - owned - planes.size()));
     m.border_bodies(static_cast<std::uint32_t>(s.border_bodies));
     m.clones(static_cast<std::uint32_t>(s.clones));
     m.step_ms(static_cast<float>(step_ms));
@@ -543,6 +688,9 @@ int Worker::run(const std::atomic<bool>& stop) {
         }
         s.apply_ghost_updates(s.frame - 1);
         s.apply_go(current);
+        // The whole halo now and then, and when the assignment changed; else only where samples arrived.
+        s.sync_halo(s.halo_moved || s.frame % 60 == 0);
+        s.halo_moved = false;
         const double wait_ms = ms_since(wait_start);
         const auto step_start = Clock::now();
         s.world->step();

@@ -96,7 +96,11 @@ void compare_with_sim(int workers, int domain) {
     auto frames = collect(*client, kFrames);
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
     ASSERT_FALSE(frames.empty());
-    EXPECT_GE(frames.size(), kFrames * 9 / 10) << "most frames complete at the client";
+    // The client may match the workers' writers late on a loaded machine (DDS discovery); from its first
+    // complete frame on it must miss few.
+    EXPECT_GE(frames.size(), (kFrames - frames.begin()->first) * 9 / 10)
+        << "most frames complete at the client";
+    EXPECT_LT(frames.begin()->first, kFrames / 2) << "the client took half the run to see a frame";
     double worst = 0.0;
     std::size_t bodies_compared = 0;
     const SectorGrid grid(kL);
@@ -367,7 +371,14 @@ TEST(Cluster, ALoadNoCutCanSpreadMovesNoSectors) {
 }
 
 TEST(Cluster, AWorkerThatDiesHandsItsSectorsToTheOthers) {
-    const Scene scene = crossing_scene();
+    // Besides the crossing bodies, slow balls in sectors far apart: whichever of them worker 2 owns lie
+    // outside the halos of the others, who must rebuild them from its last samples.
+    Scene scene = crossing_scene();
+    for (int n = 0; n < 6; ++n) {
+        BodyDesc far = scenes::sphere_body(40 + n, 0.5, 1.0, Eigen::Vector3d((8 + 4 * n) * kL, 0, 0));
+        far.linear_velocity = Eigen::Vector3d(0, 0.5, 0);
+        scene.bodies.push_back(far);
+    }
     const int domain = 128;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "dies");
@@ -386,9 +397,19 @@ TEST(Cluster, AWorkerThatDiesHandsItsSectorsToTheOthers) {
     auto after = collect(*client, killed_at + 600, std::chrono::seconds(60));
     ASSERT_FALSE(after.empty());
     EXPECT_GT(after.rbegin()->first, killed_at + 300) << "frames go on after the death";
-    EXPECT_EQ(after.rbegin()->second.bodies.size(), scene.bodies.size());
+    std::set<BodyId> want, got;
+    for (const BodyDesc& b : scene.bodies)
+        want.insert(b.id);
+    for (const BodyView& b : after.rbegin()->second.bodies)
+        got.insert(b.id);
+    EXPECT_EQ(got, want);
+    EXPECT_EQ(after.rbegin()->second.bodies.size(), scene.bodies.size()) << "no body twice";
     const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     EXPECT_NE(text.find("worker 2 stopped answering"), std::string::npos) << text;
+    // At least one of its bodies was outside every survivor's halo, rebuilt from its last sample.
+    const std::string survivors =
+        read_file(cluster.log_dir + "/worker-1.log") + read_file(cluster.log_dir + "/worker-3.log");
+    EXPECT_NE(survivors.find("taken over from worker 2"), std::string::npos) << survivors;
     cluster.process->stop();
 }
 
@@ -611,6 +632,18 @@ TEST(Cluster, TheExamplesRunAgainstTheExampleScene) {
     }
     EXPECT_GE(far, 6u) << read_file(observer_out);  // five boxes and the ball, at each report
     EXPECT_EQ(near, 0u) << read_file(observer_out);
+
+    // Each worker holds its own sectors and, as ghosts, the bodies of their neighbours: not the world. The
+    // three groups are far apart, so the ghosts (other workers' bodies held) are fewer than the bodies;
+    // were every body everywhere, each worker would hold all the others'.
+    const std::string summary = read_file(cluster.log_dir + ".out");
+    const std::size_t done = summary.rfind("done:");
+    ASSERT_NE(done, std::string::npos) << summary;
+    std::istringstream words(summary.substr(summary.find("ghosts per worker", done) + 17));
+    std::size_t ghosts = 0;
+    for (std::string word; words >> word && word.find(':') != std::string::npos;)
+        ghosts += std::stoul(word.substr(word.find(':') + 1));
+    EXPECT_LT(ghosts, 18u) << summary;  // 18 bodies besides the ground, over 2 workers
 }
 
 TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
