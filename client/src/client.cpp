@@ -30,6 +30,7 @@ struct Client::State {
     std::unique_ptr<dds::Reader<wire::BodyDescription>> descriptions_in;
     std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;
     std::unique_ptr<dds::Writer<wire::Command>> commands_out;
+    std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
 
     std::optional<SectorGrid> grid;
     std::vector<std::uint32_t> workers;
@@ -37,6 +38,10 @@ struct Client::State {
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
     dds::SectorChain chain;                                           ///< which samples are usable
     dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
+    /// Sectors whose partial samples were refused, and when each was last asked for whole.
+    std::set<SectorKey> wanted_whole;
+    std::unordered_map<SectorKey, std::chrono::steady_clock::time_point, SectorKeyHash> asked;
+    std::uint64_t next_sector_request = 1;
     /// What a worker said at the end of a frame: the sectors it owns (that this client follows), each with
     /// the frame of its latest sample, and how many planes the world holds.
     struct Mark {
@@ -59,6 +64,7 @@ struct Client::State {
     void apply_until(std::uint64_t frame);
     WorldFrame frame_view(std::uint64_t frame) const;
     std::uint64_t send(wire::Command command);
+    void ask_for_whole_sectors();
 };
 
 Client::Client(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -71,6 +77,7 @@ Client::~Client() {
     state_->descriptions_in.reset();
     state_->results_in.reset();
     state_->commands_out.reset();
+    state_->requests_out.reset();
 }
 
 Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) {
@@ -104,8 +111,11 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
         &state->inbox);
     state->commands_out = std::make_unique<Writer<wire::Command>>(
         p, p.topic<wire::CommandPubSubType>(kCommands), writer_qos(kCommandDelivery));
+    state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
+        p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
     if (!state->frames_in->ok() || !state->marks_in->ok() || !state->assignment_in->ok() ||
-        !state->descriptions_in->ok() || !state->results_in->ok() || !state->commands_out->ok()) {
+        !state->descriptions_in->ok() || !state->results_in->ok() || !state->commands_out->ok() ||
+        !state->requests_out->ok()) {
         return Error{"cannot create the client's DDS readers and writers"};
     }
     return std::unique_ptr<Client>(new Client(std::move(state)));
@@ -146,13 +156,36 @@ void Client::State::take() {
         marked_frames.insert(m.frame());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || !chain.accept(f)) return;
+        if (!info.valid_data) return;
+        if (!chain.accept(f)) {
+            wanted_whole.insert(dds::from_wire(f.sector()));
+            return;
+        }
+        wanted_whole.erase(dds::from_wire(f.sector()));
         pending[f.frame()].push_back(f);
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || r.client() != options.name) return;
         outcomes[r.request()] = CommandOutcome{r.applied(), r.order(), r.frame(), r.reason()};
     });
+    ask_for_whole_sectors();
+}
+
+void Client::State::ask_for_whole_sectors() {
+    // Without a request the owner sends the sector whole within 30 frames anyway; asking makes it the next
+    // frame. Asked again while refused, not more than every 100 ms (a request can be lost to discovery).
+    const auto now = std::chrono::steady_clock::now();
+    wire::SectorRequest request;
+    for (const SectorKey& key : wanted_whole) {
+        auto last = asked.find(key);
+        if (last != asked.end() && now - last->second < std::chrono::milliseconds(100)) continue;
+        asked[key] = now;
+        request.sectors().push_back(dds::to_wire(key));
+    }
+    if (request.sectors().empty()) return;
+    request.reader(options.name);
+    request.request(next_sector_request++);
+    requests_out->write(request);
 }
 
 bool Client::State::complete(std::uint64_t frame) const {

@@ -14,6 +14,7 @@ inline constexpr const char* kWorkerFrames = "lpss/worker_frames";
 inline constexpr const char* kFrameGo = "lpss/frame_go";
 inline constexpr const char* kCommands = "lpss/commands";
 inline constexpr const char* kCommandResults = "lpss/command_results";
+inline constexpr const char* kSectorRequests = "lpss/sector_requests";
 
 /// How a topic is delivered.
 struct Delivery {
@@ -32,7 +33,7 @@ inline constexpr Delivery kDescriptionReading{true, 1};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};
-/// Commands and results: volatile, deep enough for bursts.
+/// Commands, results and sector requests: volatile, deep enough for bursts.
 inline constexpr Delivery kCommandDelivery{false, 256};
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(const Delivery& delivery);

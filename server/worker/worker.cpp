@@ -92,6 +92,7 @@ struct Worker::State {
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
     std::unique_ptr<dds::Reader<wire::BodyDescription>> descriptions_in;
+    std::unique_ptr<dds::Reader<wire::SectorRequest>> requests_in;
 
     std::optional<World> world;
     SectorAssignment current;
@@ -113,6 +114,7 @@ struct Worker::State {
     std::map<SectorKey, SectorPublication> publications;  ///< owned sectors as readers hold them
     std::map<SectorKey, std::uint64_t> stamps;  ///< owned sectors and the frame of their latest sample
     std::set<SectorKey> touched;                ///< sectors changed by commands and handoffs this frame
+    std::set<SectorKey> requested;              ///< sectors a reader asked to have whole
     std::set<BodyId> planes;                    ///< in no sector's samples: readers count them in marks
 
     // The halo: the engine holds this worker's own sectors and, as ghosts, the bodies of the sectors next
@@ -155,6 +157,7 @@ Worker::~Worker() {
     state_->marks_in.reset();
     state_->go_in.reset();
     state_->descriptions_in.reset();
+    state_->requests_in.reset();
 }
 
 Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
@@ -183,9 +186,12 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     state->descriptions_in = std::make_unique<Reader<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);
+    state->requests_in = std::make_unique<Reader<wire::SectorRequest>>(
+        p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), reader_qos(kCommandDelivery),
+        &state->inbox);
     if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() ||
         !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() ||
-        !state->descriptions_in->ok()) {
+        !state->descriptions_in->ok() || !state->requests_in->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
@@ -208,6 +214,11 @@ void Worker::State::pump() {
                 early_descriptions.push_back(body);
             }
         }
+    });
+    requests_in->take_all([&](const wire::SectorRequest& r, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data) return;
+        for (const wire::SectorKey& key : r.sectors())
+            requested.insert(dds::from_wire(key));  // publish() keeps those it owns
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.worker() == options.id) return;
@@ -490,6 +501,9 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         keys.insert(k);
     for (const auto& entry : publications)
         keys.insert(entry.first);  // where bodies were: they may have left
+    for (const SectorKey& k : requested) {
+        if (publications.count(k)) keys.insert(k);  // a sector of this worker's that holds bodies
+    }
     if (full) {
         for (const SectorKey& k : w.sectors())
             keys.insert(k);
@@ -522,12 +536,12 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
             pub.body_left(id);
         }
         pub.members = now;
-        // Whole: when a reader may need it (the first frame, a new reader, a sector new to this worker or
-        // emptied), on the sector's phase, and once when it falls quiet, so that the durable last sample of
-        // a quiet sector is all of it. Otherwise only what changed since the base.
+        // Whole: when a reader may need it (the first frame, a new reader, a reader that asked, a sector new
+        // to this worker or emptied), on the sector's phase, and once when it falls quiet, so that the
+        // durable last sample of a quiet sector is all of it. Otherwise only what changed since the base.
         const bool on_phase = (frame + SectorKeyHash{}(key)) % kCompleteEvery == 0;
-        const bool complete =
-            full || pub.last == 0 || now.empty() || (news && on_phase) || (!news && !pub.last_complete);
+        const bool complete = full || pub.last == 0 || now.empty() || (news && on_phase) ||
+                              (!news && !pub.last_complete) || requested.count(key);
         if (!news && !complete) continue;
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(key));
@@ -559,6 +573,7 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         it = w.contains(it->first) && !w.is_ghost(it->first) ? std::next(it) : published.erase(it);
     }
     touched.clear();
+    requested.clear();
     return written;
 }
 

@@ -413,6 +413,62 @@ TEST(Cluster, AWorkerThatDiesHandsItsSectorsToTheOthers) {
     cluster.process->stop();
 }
 
+TEST(Cluster, AReaderMissingASectorsBaseGetsItWholeOnRequest) {
+    // One worker, bodies always moving: a sector is sent whole every 30 frames, partial in between. Right
+    // after a complete sample, a reader asks for the sector whole (as lpss::Client does when it refused a
+    // partial sample): it comes with one of the next frames, not 30 frames later.
+    const int domain = 133;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "request");
+    auto p = dds::Participant::create(domain, "", "request-test");
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    dds::Participant& part = **p;
+    dds::Inbox inbox;
+    auto frames = std::make_unique<dds::Reader<wire::SectorFrame>>(
+        part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+        dds::reader_qos(dds::kSectorFrameReading), &inbox);
+    auto requests = std::make_unique<dds::Writer<wire::SectorRequest>>(
+        part, part.topic<wire::SectorRequestPubSubType>(dds::kSectorRequests),
+        dds::writer_qos(dds::kCommandDelivery));
+    auto cluster = start_cluster(path, domain, 1, 900);
+    ASSERT_TRUE(cluster.process);
+    std::optional<SectorKey> sector;
+    std::uint64_t phase = 0, asked_at = 0, whole_at = 0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (whole_at == 0 && std::chrono::steady_clock::now() < end) {
+        inbox.wait(std::chrono::milliseconds(10));
+        frames->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || f.frame() < 100) return;  // past the start and this reader's match
+            const SectorKey key = dds::from_wire(f.sector());
+            if (!sector && f.complete()) {
+                sector = key;  // a complete sample on the sector's phase
+                phase = f.frame();
+                return;
+            }
+            if (!sector || key != *sector) return;
+            if (asked_at == 0 && !f.complete()) {
+                asked_at = f.frame();
+                wire::SectorRequest r;
+                r.reader("request-test");
+                r.request(1);
+                r.sectors().push_back(dds::to_wire(key));
+                requests->write(r);
+            } else if (asked_at != 0 && f.complete()) {
+                whole_at = f.frame();
+            }
+        });
+    }
+    frames.reset();
+    requests.reset();
+    cluster.process->stop();
+    ASSERT_TRUE(sector) << "no complete sample seen";
+    ASSERT_NE(whole_at, 0u) << "the sector never came whole again";
+    std::printf("complete sample at frame %llu, asked at %llu, whole again at %llu\n",
+                static_cast<unsigned long long>(phase), static_cast<unsigned long long>(asked_at),
+                static_cast<unsigned long long>(whole_at));
+    EXPECT_LT(whole_at, phase + 15) << "only on the sector's next phase";
+}
+
 TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
     Scene scene = scenes::box_stack(Eigen::Vector3d(0, 0, 0), 4, kL);
     for (int n = 0; n < 6; ++n) {
