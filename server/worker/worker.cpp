@@ -139,7 +139,7 @@ struct Worker::State {
     void apply_go(const wire::FrameGo& go);
     void apply_command(const wire::Command& command, std::uint64_t order);
     void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
-    bool border_data_ready(std::uint64_t previous) const;
+    bool border_data_ready(std::uint64_t previous);
     void apply_ghost_updates(std::uint64_t up_to);
     std::vector<SectorKey> publish(bool full);
     void mark(const std::vector<SectorKey>& published, bool full, double step_ms, double wait_ms);
@@ -385,14 +385,17 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
     }
 }
 
-bool Worker::State::border_data_ready(std::uint64_t previous) const {
+bool Worker::State::border_data_ready(std::uint64_t previous) {
     if (previous == 0) return true;
+    // The samples of the halo: only its bodies can reach this worker's sectors. When the assignment
+    // changes with this frame, the new halo is not known yet here: every sector then.
+    const bool switching = next.epoch != current.epoch && next.from_frame <= previous + 1;
     for (std::uint32_t other : current.workers) {
         if (other == options.id) continue;
         auto it = marks.find({other, previous});
-        if (it == marks.end()) return false;
+        if (it == marks.end()) return false;  // which sectors it wrote is not known yet
         for (const auto& [key, stamp] : it->second) {
-            if (chain.newest(key) < stamp) return false;
+            if ((switching || in_halo(key)) && chain.newest(key) < stamp) return false;
         }
     }
     return true;
