@@ -275,12 +275,17 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
 }
 
 bool Client::wait_for_cluster(std::chrono::milliseconds limit) {
+    State& s = *state_;
+    auto connected = [&] {
+        return s.grid && s.commands_out->matched() > 0 &&
+               s.results_in->matched() >= static_cast<int>(s.workers.size()) + 1;  // coordinator, workers
+    };
     const auto end = std::chrono::steady_clock::now() + limit;
-    while (!state_->grid && std::chrono::steady_clock::now() < end) {
-        state_->inbox.wait(std::chrono::milliseconds(20));
-        state_->take();
+    while (!connected() && std::chrono::steady_clock::now() < end) {
+        s.inbox.wait(std::chrono::milliseconds(20));
+        s.take();
     }
-    return state_->grid.has_value();
+    return s.grid.has_value();
 }
 
 void Client::on_frame(std::function<void(const WorldFrame&)> callback) {

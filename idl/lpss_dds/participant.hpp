@@ -156,6 +156,12 @@ public:
         }
         return count;
     }
+    /// Writers matched now.
+    int matched() const {
+        fdds::SubscriptionMatchedStatus status;
+        reader_->get_subscription_matched_status(status);
+        return status.current_count;
+    }
     fdds::DataReader* raw() { return reader_; }
 
 private:

@@ -66,7 +66,9 @@ public:
     static Expected<std::unique_ptr<Client>> connect(const ClientOptions& options);
     ~Client();
 
-    /// Waits up to `limit` for a running cluster (its sector assignment). False if none appeared.
+    /// Waits up to `limit` for a running cluster (its sector assignment), and for this client's commands to
+    /// reach the coordinator and the results to come back from it and every worker (commands are not
+    /// kept for late readers: one sent before that is lost). False if no cluster appeared.
     bool wait_for_cluster(std::chrono::milliseconds limit);
     /// Takes what arrived, waiting up to `wait` for it, and returns every frame that became complete, in
     /// order (also passed to the on_frame callback).
