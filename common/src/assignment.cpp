@@ -36,7 +36,8 @@ std::uint32_t SectorAssignment::owner_of(const SectorKey& sector) const {
 }
 
 SectorAssignment SectorAssignment::balanced(const std::vector<std::pair<SectorKey, double>>& loads,
-                                            const std::vector<std::uint32_t>& workers, std::int64_t block_size) {
+                                            const std::vector<std::uint32_t>& workers,
+                                            std::int64_t block_size) {
     SectorAssignment out;
     out.block_size = block_size;
     out.workers = workers;
@@ -59,7 +60,8 @@ SectorAssignment SectorAssignment::balanced(const std::vector<std::pair<SectorKe
     // Workers left without load start where the curve's occupied part ends (empty but valid ranges).
     MortonCode end = blocks.empty() ? MortonCode{} : blocks.rbegin()->first;
     if (!blocks.empty()) end.low += 1;  // just past the last block (no overflow in practice: index 2^62 max)
-    for (; worker < workers.size(); ++worker) out.starts[worker] = end;
+    for (; worker < workers.size(); ++worker)
+        out.starts[worker] = end;
     return out;
 }
 

@@ -9,6 +9,7 @@ int main() {
     options.name = "package-user";
     auto client = lpss::Client::connect(options);
     if (!client) return 1;
-    std::printf("connected; cluster: %s\n", (*client)->wait_for_cluster(std::chrono::milliseconds(200)) ? "yes" : "no");
+    std::printf("connected; cluster: %s\n",
+                (*client)->wait_for_cluster(std::chrono::milliseconds(200)) ? "yes" : "no");
     return 0;
 }

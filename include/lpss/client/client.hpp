@@ -30,9 +30,9 @@ struct Region {
 
 struct ClientOptions {
     int domain = 0;
-    std::string profile;             ///< Fast DDS XML profile; empty: the built-in local one
-    std::string name = "client";     ///< names this client's commands
-    std::optional<Region> region;    ///< follow only these sectors (filtered by DDS); the whole world if empty
+    std::string profile;           ///< Fast DDS XML profile; empty: the built-in local one
+    std::string name = "client";   ///< names this client's commands
+    std::optional<Region> region;  ///< follow only these sectors (filtered by DDS); the whole world if empty
 };
 
 /// One body in a frame.
