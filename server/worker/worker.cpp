@@ -141,8 +141,8 @@ struct Worker::State {
     void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
     bool border_data_ready(std::uint64_t previous);
     void apply_ghost_updates(std::uint64_t up_to);
-    std::vector<SectorKey> publish(bool full);
-    void mark(const std::vector<SectorKey>& published, bool full, double step_ms, double wait_ms);
+    void publish(bool full);
+    void mark(double step_ms, double wait_ms);
 };
 
 Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -497,7 +497,7 @@ void Worker::State::sync_halo(bool full) {
     leavers.clear();
 }
 
-std::vector<SectorKey> Worker::State::publish(bool full) {
+void Worker::State::publish(bool full) {
     World& w = *world;
     std::set<SectorKey> keys(touched.begin(), touched.end());
     for (const SectorKey& k : w.stepped_sectors())
@@ -511,7 +511,6 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         for (const SectorKey& k : w.sectors())
             keys.insert(k);
     }
-    std::vector<SectorKey> written;
     for (const SectorKey& key : keys) {
         if (!owns(key)) {
             // A sector handed to another worker: its new owner writes it, whole first, from now on.
@@ -564,7 +563,6 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
         }
         pub.last_complete = complete;
         frames_out->write(sample);
-        written.push_back(key);
         stamps[key] = frame;
         if (now.empty()) {
             publications.erase(key);
@@ -577,10 +575,9 @@ std::vector<SectorKey> Worker::State::publish(bool full) {
     }
     touched.clear();
     requested.clear();
-    return written;
 }
 
-void Worker::State::mark(const std::vector<SectorKey>& written, bool full, double step_ms, double wait_ms) {
+void Worker::State::mark(double step_ms, double wait_ms) {
     World& w = *world;
     wire::WorkerFrame m;
     m.worker(options.id);
@@ -594,8 +591,6 @@ void Worker::State::mark(const std::vector<SectorKey>& written, bool full, doubl
         st.frame(stamp);
         m.sectors().push_back(st);
     }
-    (void)written;
-    (void)full;
 
     // Bodies leaving this worker: crossing into a sector of another, or standing in a sector it gives up
     // with the next assignment.
@@ -716,8 +711,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         // Every sector whole in the first frame, and when a reader has just matched (a late joiner): it
         // would otherwise wait for each sector's next complete sample.
         const bool full = s.frame == 1 || s.frames_out->take_new_matches() > 0;
-        const std::vector<SectorKey> written = s.publish(full);
-        s.mark(written, full, step_ms, wait_ms);
+        s.publish(full);
+        s.mark(step_ms, wait_ms);
         // Forget what no longer matters: marks of frames before the previous one.
         for (auto it = s.marks.begin(); it != s.marks.end();) {
             it = it->first.second + 1 < s.frame ? s.marks.erase(it) : std::next(it);
