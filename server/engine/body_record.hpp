@@ -12,17 +12,25 @@
 #include "aabb.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "sector_id.hpp"
 
 namespace lpss::engine {
-
-class Sector;
 
 /// What a Bullet object stands for, stored in its user index 2 (the user index holds the body slot).
 enum class Role : int { Original = 0, Clone = 1, PlaneInstance = 2 };
 
+/// How far (sector_distance) a clone's host may be from its original's sector. A body is at most a sector
+/// wide and its centre within the hysteresis band of its sector, so its reach stays within the next sector;
+/// two such reaches meet at most two sectors apart. A body that jumps further (set_state, a very fast
+/// body) lets go of clones beyond this at once, rather than keep copies far from their host's origin.
+inline constexpr std::int64_t kCloneNeighbourhood = 2;
+
+/// Frames an unneeded clone stays in its host before it is released (cloning.cpp says why).
+inline constexpr std::uint64_t kCloneLinger = 8;
+
 /// A copy of a body inside another sector (or, for a plane, its instance in a sector).
 struct Clone {
-    Sector* host = nullptr;
+    SectorId host;
     std::unique_ptr<btRigidBody> rb;
     std::uint64_t confirmed_frame = 0;  ///< last frame the cloning stage found it needed
 };
@@ -35,7 +43,7 @@ struct BodyRecord {
     bool dynamic = false;
     bool plane = false;
     std::uint32_t index_in_sector = 0;
-    Sector* sector = nullptr;         ///< owner sector; none for a plane
+    SectorId sector;                  ///< owner sector; none for a plane
     std::unique_ptr<btRigidBody> rb;  ///< the original, in its owner sector; none for a plane
     /// Position of the original in its owner sector's frame, in double: the float engine's position is
     /// this rounded (see World::Impl::track_position).
@@ -48,7 +56,10 @@ struct BodyRecord {
     Aabb reach;
     std::uint64_t reach_frame = 0;  ///< the frame `reach` was computed in
     Aabb fat;
-    const Sector* fat_owner = nullptr;  ///< the sector whose frame `fat` is in; refreshed when it changes
+    /// The sector whose frame `fat` is in (a key: the frame is the sector's centre, whatever becomes of
+    /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
+    SectorKey fat_frame;
+    bool has_fat = false;
     struct Leaf {
         SectorKey cell;
         btDbvtNode* node = nullptr;
@@ -67,7 +78,7 @@ struct BodyRecord {
         plane_anchor;  ///< a plane exists in every sector near it: dot(normal, p - anchor) = offset
     std::unique_ptr<BodyDesc> desc;  ///< as created: cold, for descriptions and messages
 
-    Clone* clone_in(const Sector* host) {
+    Clone* clone_in(SectorId host) {
         for (Clone& c : clones) {
             if (c.host == host) return &c;
         }

@@ -17,12 +17,10 @@ namespace lpss {
 
 using engine::BodyRecord;
 using engine::Clone;
+using engine::kCloneLinger;
 using engine::Role;
 using engine::Sector;
-
-namespace {
-constexpr std::uint64_t kCloneLinger = 8;  ///< frames an unneeded clone stays before it is released
-}  // namespace
+using engine::SectorId;
 
 void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     if (!options.monolithic) {
@@ -32,21 +30,22 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
 
     // Sectors to step: those holding awake originals...
     step_set.clear();
-    for (Sector* s : awake_list) {
-        s->in_awake_list = false;
-        if (s->awake) {
-            s->stepping = true;
-            step_set.push_back(s);
+    for (SectorId id : awake_list) {
+        Sector& s = sectors.at(id);
+        s.in_awake_list = false;
+        if (s.awake) {
+            s.stepping = true;
+            step_set.push_back(id);
         }
     }
     awake_list.clear();
     if (options.naive_sector_worlds) {
-        for (auto& entry : sectors) {
-            if (!entry.second->stepping) {
-                entry.second->stepping = true;
-                step_set.push_back(entry.second.get());
+        sectors.for_each([&](Sector& s) {
+            if (!s.stepping) {
+                s.stepping = true;
+                step_set.push_back(s.id);
             }
-        }
+        });
     }
     requirements.clear();
     if (options.monolithic) return;
@@ -55,7 +54,7 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         for (std::uint32_t slot : candidates) {
             const BodyRecord& rec = record(slot);
             awake_ghost =
-                awake_ghost || (rec.alive && rec.dynamic && rec.sector->remote && rec.rb->isActive());
+                awake_ghost || (rec.alive && rec.dynamic && sector_of(rec).remote && rec.rb->isActive());
         }
         if (!awake_ghost) return;
     }
@@ -66,25 +65,25 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         const BodyRecord& rec = record(slot);
         if (rec.partners.empty() || !rec.dynamic || !rec.rb->isActive()) return;
         for (std::uint32_t other : rec.partners) {
-            Sector* target = record(other).sector;
-            if (record(other).dynamic && !target->stepping && !target->remote && reaches_meet(slot, other)) {
-                target->stepping = true;
-                step_set.push_back(target);
+            Sector& target = sector_of(record(other));
+            if (record(other).dynamic && !target.stepping && !target.remote && reaches_meet(slot, other)) {
+                target.stepping = true;
+                step_set.push_back(target.id);
             }
         }
     };
     const std::size_t awake_sectors = step_set.size();
     for (std::size_t n = 0; n < awake_sectors; ++n) {
-        for (std::uint32_t slot : step_set[n]->originals)
+        for (std::uint32_t slot : sectors.at(step_set[n]).originals)
             extend_from(slot);
     }
     for (std::uint32_t slot : candidates) {
-        if (record(slot).alive && !record(slot).plane && record(slot).sector->remote) extend_from(slot);
+        if (record(slot).alive && !record(slot).plane && sector_of(record(slot)).remote) extend_from(slot);
     }
 
     // Every dynamic body of a stepped sector needs its partners there.
-    for (Sector* target : step_set) {
-        for (std::uint32_t slot : target->originals) {
+    for (SectorId target : step_set) {
+        for (std::uint32_t slot : sectors.at(target).originals) {
             const BodyRecord& rec = record(slot);
             if (rec.partners.empty() || !rec.dynamic) continue;
             for (std::uint32_t other : rec.partners) {
@@ -100,30 +99,31 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     requirements.erase(std::unique(requirements.begin(), requirements.end()), requirements.end());
     missing_scratch.clear();
     for (auto [target, slot] : requirements) {
-        if (!target->stepping) continue;
+        if (!sectors.at(target).stepping) continue;
         if (Clone* clone = record(slot).clone_in(target)) {
             clone->confirmed_frame = frame;
         } else {
             missing_scratch.emplace_back(target, slot);
         }
     }
-    std::sort(missing_scratch.begin(), missing_scratch.end(), [](const auto& a, const auto& b) {
-        if (a.first != b.first) return a.first->key < b.first->key;
+    std::sort(missing_scratch.begin(), missing_scratch.end(), [&](const auto& a, const auto& b) {
+        if (a.first != b.first) return sectors.at(a.first).key < sectors.at(b.first).key;
         return a.second < b.second;
     });
     for (auto [target, slot] : missing_scratch)
-        create_clone(slot, *target);
-    for (Sector* s : step_set) {
-        for (std::size_t n = s->hosted.size(); n-- > 0;) {
-            std::uint32_t slot = s->hosted[n];
+        create_clone(slot, sectors.at(target));
+    for (SectorId id : step_set) {
+        Sector& s = sectors.at(id);
+        for (std::size_t n = s.hosted.size(); n-- > 0;) {
+            std::uint32_t slot = s.hosted[n];
             BodyRecord& rec = record(slot);
             if (rec.plane) continue;
-            Clone* clone = rec.clone_in(s);
+            Clone* clone = rec.clone_in(id);
             // A clone is let go only after it has gone unneeded for a few frames: taking an object out of a
             // Bullet world scans the world's whole pair cache, and pairs near the edge of reach flicker.
             // A lingering clone is a true copy of its original, so it changes nothing but the cost.
             if (frame - clone->confirmed_frame > kCloneLinger) {
-                release_clone(slot, *s);
+                release_clone(slot, s);
             } else if (rec.dynamic) {
                 sync_clone(rec, *clone);
             }
@@ -148,7 +148,7 @@ Clone& World::Impl::create_clone(std::uint32_t slot, Sector& host) {
         rb->setCcdMotionThreshold(rec.rb->getCcdMotionThreshold());
         rb->setCcdSweptSphereRadius(rec.rb->getCcdSweptSphereRadius());
     }
-    rec.clones.push_back(Clone{&host, std::move(rb), frame});
+    rec.clones.push_back(Clone{host.id, std::move(rb), frame});
     Clone& clone = rec.clones.back();
     sync_clone(rec, clone);
     host.world.addRigidBody(clone.rb.get());
@@ -160,7 +160,7 @@ Clone& World::Impl::create_clone(std::uint32_t slot, Sector& host) {
 void World::Impl::release_clone(std::uint32_t slot, Sector& host) {
     BodyRecord& rec = record(slot);
     auto it =
-        std::find_if(rec.clones.begin(), rec.clones.end(), [&](const Clone& c) { return c.host == &host; });
+        std::find_if(rec.clones.begin(), rec.clones.end(), [&](const Clone& c) { return c.host == host.id; });
     std::unique_ptr<btRigidBody> rb = std::move(it->rb);
     *it = std::move(rec.clones.back());
     rec.clones.pop_back();
@@ -179,9 +179,9 @@ void World::Impl::release_clone(std::uint32_t slot, Sector& host) {
 void World::Impl::sync_clone(const BodyRecord& rec, Clone& clone) const {
     const btRigidBody& original = *rec.rb;
     btRigidBody& copy = *clone.rb;
+    const Sector& host = sectors.at(clone.host);
     btTransform transform = original.getWorldTransform();
-    transform.setOrigin(
-        clone.host->to_physics(rec.local + grid.centre_offset(clone.host->key, rec.sector->key)));
+    transform.setOrigin(host.to_physics(rec.local + grid.centre_offset(host.key, sector_of(rec).key)));
     copy.setWorldTransform(transform);
     copy.setInterpolationWorldTransform(transform);
     copy.setLinearVelocity(original.getLinearVelocity());
@@ -191,7 +191,10 @@ void World::Impl::sync_clone(const BodyRecord& rec, Clone& clone) const {
     copy.forceActivationState(original.getActivationState());
     copy.setDeactivationTime(original.getDeactivationTime());
     // The step refreshes only moving objects' broadphase boxes: a resting clone's box is refreshed here.
-    if (!copy.isActive() && copy.getBroadphaseHandle() != nullptr) clone.host->world.updateSingleAabb(&copy);
+    if (!copy.isActive() && copy.getBroadphaseHandle() != nullptr) {
+        // Bullet's world is not const-correct; the table hands out its sectors mutable.
+        sectors.at(clone.host).world.updateSingleAabb(&copy);
+    }
 }
 
 }  // namespace lpss

@@ -42,7 +42,8 @@ void World::Impl::merge_contacts() {
     auto before = [](const ContactRecord& x, const ContactRecord& y) {
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     };
-    for (Sector* sector : step_set) {
+    for (engine::SectorId id : step_set) {
+        Sector* sector = &sectors.at(id);
         const std::vector<ContactRecord>& old_pairs = sector->contacts;
         const std::vector<ContactRecord>& new_pairs = sector->fresh_contacts;
         std::size_t i = 0, j = 0;

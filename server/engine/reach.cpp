@@ -57,7 +57,8 @@ Aabb World::Impl::tight_reach(const BodyRecord& rec) const {
     // the start of the last physics step, swept by the motion of that step and of the coming frame.
     const btRigidBody& rb = *rec.rb;
     const btBroadphaseProxy* proxy = rb.getBroadphaseHandle();
-    Aabb box{rec.sector->from_physics(proxy->m_aabbMin), rec.sector->from_physics(proxy->m_aabbMax)};
+    const Sector& sector = sector_of(rec);
+    Aabb box{sector.from_physics(proxy->m_aabbMin), sector.from_physics(proxy->m_aabbMax)};
     if (rec.dynamic) {
         const double dt = settings.dt * (1.0 + 1.0 / settings.substeps_per_frame());
         const Eigen::Vector3d travel = to_eigen(rb.getLinearVelocity()) * dt;
@@ -80,14 +81,15 @@ const Aabb& World::Impl::current_reach(std::uint32_t slot) {
 bool World::Impl::reaches_meet(std::uint32_t a, std::uint32_t b) {
     const Aabb& ra = current_reach(a);
     const Aabb& rb = current_reach(b);
-    return ra.overlaps(rb.translated(grid.centre_offset(record(a).sector->key, record(b).sector->key)));
+    return ra.overlaps(rb.translated(grid.centre_offset(sector_of(record(a)).key, sector_of(record(b)).key)));
 }
 
 void World::Impl::update_reach(std::uint32_t slot) {
     BodyRecord& rec = record(slot);
     if (!rec.alive || rec.plane) return;
     const Aabb& tight = current_reach(slot);
-    if (rec.fat_owner == rec.sector && rec.fat.contains(tight)) return;
+    Sector& sector = sector_of(rec);
+    if (rec.has_fat && rec.fat_frame == sector.key && rec.fat.contains(tight)) return;
     // The slack: a tenth of a unit, or the distance of two frames at the current speed, whichever is
     // larger (but at most L/8): a resting body never refreshes, a moving one every few frames.
     double slack = 0.0;
@@ -96,11 +98,12 @@ void World::Impl::update_reach(std::uint32_t slot) {
         slack = std::min(settings.sector_size / 8.0, std::max(0.1, 2.0 * speed * settings.dt));
     }
     rec.fat = tight.grown(slack);
-    rec.fat_owner = rec.sector;
+    rec.fat_frame = sector.key;
+    rec.has_fat = true;
     // How far the fat box may reach beyond the body's broadphase box, for queries of that broadphase.
     const Eigen::Vector3d excess = (rec.fat.max - rec.fat.min) - (tight.max - tight.min) +
                                    2.0 * Eigen::Vector3d::Constant(reach_margin + slack);
-    rec.sector->fat_excess = std::max(rec.sector->fat_excess, excess.maxCoeff());
+    sector.fat_excess = std::max(sector.fat_excess, excess.maxCoeff());
     place_leaves(slot);
     refresh_pairs(slot);
 }
@@ -115,7 +118,7 @@ void World::Impl::place_leaves(std::uint32_t slot) {
         lo[a] = static_cast<std::int64_t>(std::max(-4.0, std::floor(rec.fat.min[a] / size + 0.5)));
         hi[a] = static_cast<std::int64_t>(std::min(4.0, std::floor(rec.fat.max[a] / size + 0.5)));
     }
-    const SectorKey& owner = rec.sector->key;
+    const SectorKey owner = rec.fat_frame;
     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
         for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
             for (std::int64_t k = lo[2]; k <= hi[2]; ++k) {
@@ -146,7 +149,7 @@ void World::Impl::remove_leaves(std::uint32_t slot) {
 }
 
 bool World::Impl::fat_overlap(const BodyRecord& a, const BodyRecord& b) const {
-    return a.fat.overlaps(b.fat.translated(grid.centre_offset(a.fat_owner->key, b.fat_owner->key)));
+    return a.fat.overlaps(b.fat.translated(grid.centre_offset(a.fat_frame, b.fat_frame)));
 }
 
 void World::Impl::refresh_pairs(std::uint32_t slot) {
@@ -171,13 +174,13 @@ void World::Impl::refresh_pairs(std::uint32_t slot) {
         const btDbvt& tree = cell_trees.at(leaf.cell)->tree;
         tree.collideTV(tree.m_root, leaf.node->volume, leaves);
         if (Sector* sector = find_sector(leaf.cell)) {
-            const Aabb query = rec.fat.translated(grid.centre_offset(leaf.cell, rec.sector->key))
+            const Aabb query = rec.fat.translated(grid.centre_offset(leaf.cell, rec.fat_frame))
                                    .grown(sector->fat_excess)
                                    .translated(-sector->anchor);
             sector->broadphase.aabbTest(to_bt(query.min), to_bt(query.max), originals);
         }
     }
-    if (auto own = cell_trees.find(rec.sector->key); own != cell_trees.end()) {
+    if (auto own = cell_trees.find(rec.fat_frame); own != cell_trees.end()) {
         own->second->tree.collideTV(own->second->tree.m_root, volume(rec.fat), leaves);
     }
     std::sort(found_scratch.begin(), found_scratch.end());
@@ -185,7 +188,7 @@ void World::Impl::refresh_pairs(std::uint32_t slot) {
     for (std::uint32_t other : found_scratch) {
         BodyRecord& partner = record(other);
         if (other == slot || partner.sector == rec.sector || (!rec.dynamic && !partner.dynamic)) continue;
-        if (partner.fat_owner == nullptr) continue;  // not placed yet: it finds this body when it is
+        if (!partner.has_fat) continue;  // not placed yet: it finds this body when it is
         if (std::find(rec.partners.begin(), rec.partners.end(), other) != rec.partners.end()) continue;
         if (!fat_overlap(rec, partner)) continue;
         rec.partners.push_back(other);

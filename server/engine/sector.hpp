@@ -16,6 +16,7 @@
 #include "bullet_convert.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "sector_id.hpp"
 
 namespace lpss::engine {
 
@@ -26,6 +27,15 @@ struct ContactRecord {
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< sector-local
     Eigen::Vector3f normal = Eigen::Vector3f::Zero();
     float impulse = 0.0f;
+};
+
+/// Bullet's dynamics world, but one that gives back the manifolds of its last step's predictive (CCD)
+/// contacts when it is destroyed: btDiscreteDynamicsWorld frees them only at the start of the next step, so
+/// a sector destroyed right after stepping a fast body would leak them (LeakSanitizer found it).
+class DynamicsWorld : public btDiscreteDynamicsWorld {
+public:
+    using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+    ~DynamicsWorld() override { releasePredictiveContacts(); }
 };
 
 /// Bullet objects first, so that they are built before and destroyed after the world using them.
@@ -53,6 +63,7 @@ public:
     void move_anchor(const Eigen::Vector3d& to);
 
     const SectorKey key;
+    SectorId id;  ///< given by the SectorTable that holds it
     // Only naive sectors own these; they come first so that they outlive the world using them.
     std::unique_ptr<btDefaultCollisionConfiguration> own_configuration;
     std::unique_ptr<btSequentialImpulseConstraintSolver> own_solver;
@@ -62,7 +73,7 @@ public:
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     btCollisionDispatcher dispatcher;
     btDbvtBroadphase broadphase;
-    btDiscreteDynamicsWorld world;
+    DynamicsWorld world;
 
     std::vector<std::uint32_t> originals;       ///< slots of the bodies this sector owns
     std::vector<std::uint32_t> hosted;          ///< slots of bodies with a clone or plane instance here

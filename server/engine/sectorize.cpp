@@ -10,12 +10,12 @@ namespace lpss {
 void World::Impl::sectorize(const std::vector<std::uint32_t>& candidates) {
     for (std::uint32_t slot : candidates) {
         engine::BodyRecord& rec = record(slot);
-        if (!rec.dynamic || rec.sector->remote) continue;  // ghosts move by set_state only
+        if (!rec.dynamic || sector_of(rec).remote) continue;  // ghosts move by set_state only
         const Eigen::Vector3d& local = rec.local;
         if (std::fabs(local.x()) < band && std::fabs(local.y()) < band && std::fabs(local.z()) < band)
             continue;
         // Any distance: a fast body may cross several sectors in one frame.
-        Expected<SectorPosition> to = grid.canonical(SectorPosition{rec.sector->key, local});
+        Expected<SectorPosition> to = grid.canonical(SectorPosition{sector_of(rec).key, local});
         if (!to.ok()) continue;           // past the edge of the grid (index 2^62): it stays where it is
         if (!owns(to->sector)) continue;  // handed off by its process: World::departures()
         move_body(slot, to.value());

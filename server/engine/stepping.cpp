@@ -29,7 +29,7 @@ Role role_of(const btCollisionObject* object) { return static_cast<Role>(object-
 }  // namespace
 
 void World::Impl::track_position(BodyRecord& rec, double dt) const {
-    const Sector& sector = *rec.sector;
+    const Sector& sector = sector_of(rec);
     btTransform& transform = rec.rb->getWorldTransform();
     const btVector3 moved = transform.getOrigin();
     if (!precise_positions) {
@@ -65,7 +65,7 @@ void World::Impl::step_sectors() {
     const double substep = settings.dt / substeps;
     const btScalar dt = static_cast<btScalar>(substep);
     pool.run(step_set.size(), [&](std::size_t index, int worker) {
-        Sector& sector = *step_set[index];
+        Sector& sector = sectors.at(step_set[index]);  // the table is only read while threads run
         for (int n = 0; n < substeps; ++n) {
             sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
             // Every dynamic original, not only the awake ones: a body that fell asleep during this step

@@ -64,7 +64,7 @@ World::Impl::Impl(const WorldSettings& s, const EngineOptions& o)
 
 World::Impl::~Impl() {
     // Sectors take the objects out of their Bullet worlds; the bodies' Bullet objects go afterwards.
-    sectors.clear();
+    sectors = engine::SectorTable{};
 }
 
 World::World(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -91,11 +91,6 @@ const char* World::physics_precision() { return sizeof(btScalar) == sizeof(doubl
 
 // ---------------------------------------------------------------------------------------------------
 // Sectors
-
-Sector* World::Impl::find_sector(const SectorKey& key) const {
-    auto it = sectors.find(key);
-    return it == sectors.end() ? nullptr : it->second.get();
-}
 
 Eigen::Vector3d World::Impl::anchor_near(const Eigen::Vector3d& local) const {
     if (anchor_quantum == 0.0) return Eigen::Vector3d::Zero();
@@ -126,15 +121,13 @@ void World::Impl::follow_bodies(Sector& sector) {
 }
 
 Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& first_local) {
-    auto it = sectors.find(key);
-    if (it != sectors.end()) return *it->second;
+    if (Sector* existing = sectors.find(key)) return *existing;
     auto sector = options.naive_sector_worlds
                       ? std::make_unique<Sector>(key, gravity, settings.solver_iterations)
                       : std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
                                                  solvers[0].get(), gravity, settings.solver_iterations);
-    Sector& s = *sector;
-    s.remote = !owns(key);
-    sectors.emplace(key, std::move(sector));
+    sector->remote = !owns(key);
+    Sector& s = sectors.insert(std::move(sector));
     for (std::uint32_t slot : planes)
         add_plane_instance(slot, s);
     return s;
@@ -148,7 +141,7 @@ void World::Impl::destroy_sector(Sector& sector) {
         BodyRecord& rec = record(slot);
         if (rec.plane) {
             auto it = std::find_if(rec.clones.begin(), rec.clones.end(),
-                                   [&](const Clone& c) { return c.host == &sector; });
+                                   [&](const Clone& c) { return c.host == sector.id; });
             sector.world.removeRigidBody(it->rb.get());
             *it = std::move(rec.clones.back());
             rec.clones.pop_back();
@@ -161,9 +154,9 @@ void World::Impl::destroy_sector(Sector& sector) {
     for (const engine::ContactRecord& c : sector.contacts)
         count_contact(c, sector.key, -1);
     sector.contacts.clear();
-    erase_value(awake_list, &sector);
-    erase_value(step_set, &sector);
-    sectors.erase(sector.key);
+    erase_value(awake_list, sector.id);
+    erase_value(step_set, sector.id);
+    sectors.erase(sector.id);
 }
 
 void World::Impl::wake(Sector& sector) {
@@ -171,7 +164,7 @@ void World::Impl::wake(Sector& sector) {
     sector.awake = true;
     if (!sector.in_awake_list) {
         sector.in_awake_list = true;
-        awake_list.push_back(&sector);
+        awake_list.push_back(sector.id);
     }
 }
 
@@ -193,7 +186,7 @@ void World::Impl::add_plane_instance(std::uint32_t slot, Sector& sector) {
     rb->setWorldTransform(btTransform(btQuaternion::getIdentity(), to_bt(plane.normal * constant)));
     sector.world.addRigidBody(rb.get());
     sector.hosted.push_back(slot);
-    rec.clones.push_back(Clone{&sector, std::move(rb), 0});
+    rec.clones.push_back(Clone{sector.id, std::move(rb), 0});
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -246,8 +239,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
         std::get<Plane>(rec.desc->shape).normal.normalize();
         rec.plane_anchor = where;
         planes.push_back(slot);
-        for (auto& entry : sectors)
-            add_plane_instance(slot, *entry.second);
+        sectors.for_each([&](Sector& sector) { add_plane_instance(slot, sector); });
         return;
     }
 
@@ -274,7 +266,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     rb.setWorldTransform(btTransform(to_bt(rec.desc->orientation), sector.to_physics(where.local)));
     rb.setInterpolationWorldTransform(rb.getWorldTransform());
     sector.world.addRigidBody(&rb);
-    rec.sector = &sector;
+    rec.sector = sector.id;
     rec.index_in_sector = static_cast<std::uint32_t>(sector.originals.size());
     sector.originals.push_back(slot);
     if (rec.dynamic) wake(sector);
@@ -306,16 +298,17 @@ Status World::remove_body(BodyId id) {
     BodyRecord& rec = w.record(slot);
     if (rec.plane) {
         for (Clone& c : rec.clones) {
-            c.host->world.removeRigidBody(c.rb.get());
-            erase_value(c.host->hosted, slot);
-            w.forget_contacts(*c.host, id);
+            Sector& host = w.sectors.at(c.host);
+            host.world.removeRigidBody(c.rb.get());
+            erase_value(host.hosted, slot);
+            w.forget_contacts(host, id);
         }
         rec.clones.clear();
         erase_value(w.planes, slot);
     } else {
         while (!rec.clones.empty())
-            w.release_clone(slot, *rec.clones.back().host);
-        Sector& sector = *rec.sector;
+            w.release_clone(slot, w.sectors.at(rec.clones.back().host));
+        Sector& sector = w.sector_of(rec);
         w.forget_contacts(sector, id);
         sector.world.removeRigidBody(rec.rb.get());
         std::uint32_t moved = sector.originals.back();
@@ -336,16 +329,16 @@ Status World::remove_body(BodyId id) {
 
 void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     BodyRecord& rec = record(slot);
-    Sector& from = *rec.sector;
-    Sector& dest = sector_for(to.sector, to.local);
+    Sector& dest = sector_for(to.sector, to.local);  // may create a sector: `from` is looked up after
+    Sector& from = sector_of(rec);
     btTransform transform = rec.rb->getWorldTransform();
     transform.setOrigin(dest.to_physics(to.local));
     rec.local = precise_positions ? to.local : dest.from_physics(transform.getOrigin());
-    if (Clone* clone = rec.clone_in(&dest)) {
+    if (Clone* clone = rec.clone_in(dest.id)) {
         // The body already has a clone in its new sector: the clone becomes the original and the old
         // original the clone. Both keep their contact manifolds, so resting contacts carry on unbroken.
         std::swap(clone->rb, rec.rb);
-        clone->host = &from;
+        clone->host = from.id;
         btRigidBody& now = *rec.rb;
         const btRigidBody& before = *clone->rb;
         now.setWorldTransform(transform);
@@ -369,11 +362,16 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     from.originals[rec.index_in_sector] = moved;
     record(moved).index_in_sector = rec.index_in_sector;
     from.originals.pop_back();
-    rec.sector = &dest;
+    rec.sector = dest.id;
     rec.index_in_sector = static_cast<std::uint32_t>(dest.originals.size());
     dest.originals.push_back(slot);
     wake(dest);
-    if (from.originals.empty()) pending_destroy.push_back(&from);
+    if (from.originals.empty()) pending_destroy.push_back(from.id);
+    // A jump of more than a sector (set_state, a very fast body) leaves clones no partner can need.
+    for (std::size_t n = rec.clones.size(); n-- > 0;) {
+        Sector& host = sectors.at(rec.clones[n].host);
+        if (sector_distance(host.key, dest.key) > engine::kCloneNeighbourhood) release_clone(slot, host);
+    }
 }
 
 Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset) {
@@ -385,10 +383,11 @@ Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eig
         return Error{describe_body(*rec.desc) + ": impulse and offset must be finite"};
     }
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and takes no impulse"};
-    if (rec.sector->remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
+    Sector& sector = w.sector_of(rec);
+    if (sector.remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
     rec.rb->activate(true);
     rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
-    w.wake(*rec.sector);
+    w.wake(sector);
     w.dirty.push_back(found.value());
     return {};
 }
@@ -402,11 +401,12 @@ Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen
         return Error{describe_body(*rec.desc) + ": velocities must be finite"};
     }
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and has no velocity"};
-    if (rec.sector->remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
+    Sector& sector = w.sector_of(rec);
+    if (sector.remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
     rec.rb->activate(true);
     rec.rb->setLinearVelocity(to_bt(linear));
     rec.rb->setAngularVelocity(to_bt(angular));
-    w.wake(*rec.sector);
+    w.wake(sector);
     w.dirty.push_back(found.value());
     return {};
 }
@@ -436,7 +436,7 @@ Status World::set_state(const BodySnapshot& state) {
     rb.setAngularVelocity(to_bt(state.angular_velocity));
     if (state.awake) {
         rb.activate(true);
-        w.wake(*rec.sector);
+        w.wake(w.sector_of(rec));
     } else if (rb.getActivationState() != DISABLE_DEACTIVATION) {
         rb.forceActivationState(ISLAND_SLEEPING);
     }
@@ -447,8 +447,8 @@ Status World::set_state(const BodySnapshot& state) {
 void World::Impl::place_body(std::uint32_t slot, const SectorPosition& at,
                              const Eigen::Quaterniond& orientation) {
     BodyRecord& rec = record(slot);
-    if (at.sector != rec.sector->key) move_body(slot, at);
-    Sector& sector = *rec.sector;
+    if (at.sector != sector_of(rec).key) move_body(slot, at);
+    Sector& sector = sector_of(rec);
     rec.local = precise_positions ? at.local : sector.from_physics(sector.to_physics(at.local));
     btRigidBody& rb = *rec.rb;
     rb.setWorldTransform(btTransform(to_bt(orientation), sector.to_physics(at.local)));
@@ -459,42 +459,42 @@ void World::Impl::place_body(std::uint32_t slot, const SectorPosition& at,
 void World::set_ownership(std::function<bool(const SectorKey&)> owns) {
     Impl& w = *impl_;
     w.options.owns = std::move(owns);
-    for (auto& [key, sector] : w.sectors) {
-        const bool remote = !w.owns(key);
-        if (remote == sector->remote) continue;
-        sector->remote = remote;
+    w.sectors.for_each([&](Sector& sector) {
+        const bool remote = !w.owns(sector.key);
+        if (remote == sector.remote) return;
+        sector.remote = remote;
         if (remote) {
             // Its bodies become ghosts: nothing here steps them any more.
-            sector->awake = false;
-            erase_value(w.awake_list, sector.get());
-            sector->in_awake_list = false;
+            sector.awake = false;
+            erase_value(w.awake_list, sector.id);
+            sector.in_awake_list = false;
         } else {
-            for (std::uint32_t slot : sector->originals) {
-                if (w.record(slot).dynamic && w.record(slot).rb->isActive()) w.wake(*sector);
+            for (std::uint32_t slot : sector.originals) {
+                if (w.record(slot).dynamic && w.record(slot).rb->isActive()) w.wake(sector);
             }
         }
-        for (std::uint32_t slot : sector->originals)
+        for (std::uint32_t slot : sector.originals)
             w.dirty.push_back(slot);
-    }
+    });
 }
 
 bool World::is_ghost(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
-    return slot && !impl_->record(slot.value()).plane && impl_->record(slot.value()).sector->remote;
+    return slot && !impl_->record(slot.value()).plane && impl_->sector_of(impl_->record(slot.value())).remote;
 }
 
 std::vector<Departure> World::departures() const {
     const Impl& w = *impl_;
     std::vector<Departure> out;
-    for (const auto& [key, sector] : w.sectors) {
-        if (sector->remote) continue;
-        for (std::uint32_t slot : sector->originals) {
+    w.sectors.for_each([&](const Sector& sector) {
+        if (sector.remote) return;
+        for (std::uint32_t slot : sector.originals) {
             const BodyRecord& rec = w.record(slot);
             if (!rec.dynamic || rec.local.cwiseAbs().maxCoeff() < w.band) continue;
-            Expected<SectorPosition> to = w.grid.canonical(SectorPosition{key, rec.local});
+            Expected<SectorPosition> to = w.grid.canonical(SectorPosition{sector.key, rec.local});
             if (to && !w.owns(to->sector)) out.push_back(Departure{rec.id, to.value()});
         }
-    }
+    });
     std::sort(out.begin(), out.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });
     return out;
 }
@@ -514,8 +514,8 @@ std::vector<BodySnapshot> World::sector_bodies(const SectorKey& key) const {
 std::vector<SectorKey> World::stepped_sectors() const {
     std::vector<SectorKey> out;
     out.reserve(impl_->step_set.size());
-    for (const Sector* s : impl_->step_set)
-        out.push_back(s->key);
+    for (engine::SectorId id : impl_->step_set)
+        out.push_back(impl_->sectors.at(id).key);
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -534,9 +534,10 @@ void World::Impl::step() {
     // Only bodies of sectors stepped last frame, and bodies touched by commands, can have moved.
     std::vector<std::uint32_t>& candidates = candidate_scratch;
     candidates.clear();
-    for (Sector* s : step_set) {
-        s->stepping = false;
-        for (std::uint32_t slot : s->originals) {
+    for (engine::SectorId id : step_set) {
+        Sector& s = sectors.at(id);
+        s.stepping = false;
+        for (std::uint32_t slot : s.originals) {
             if (record(slot).visit_frame != frame) {
                 record(slot).visit_frame = frame;
                 candidates.push_back(slot);
@@ -552,11 +553,11 @@ void World::Impl::step() {
     dirty.clear();
 
     if (!options.monolithic) sectorize(candidates);
-    // A sector may have been emptied, refilled and emptied again: destroy each once, if still empty.
-    std::sort(pending_destroy.begin(), pending_destroy.end());
-    pending_destroy.erase(std::unique(pending_destroy.begin(), pending_destroy.end()), pending_destroy.end());
-    for (Sector* s : pending_destroy) {
-        if (s->originals.empty()) destroy_sector(*s);
+    // A sector may have been emptied and refilled (keep it), emptied more than once (destroy it once), or
+    // destroyed meanwhile by a command that removed its last body (its id is stale: nothing to do).
+    for (engine::SectorId id : pending_destroy) {
+        Sector* s = sectors.get(id);
+        if (s != nullptr && s->originals.empty()) destroy_sector(*s);
     }
     pending_destroy.clear();
     auto sectorized = std::chrono::steady_clock::now();
@@ -594,7 +595,7 @@ BodySnapshot World::Impl::snapshot_of(const BodyRecord& rec) const {
         return out;
     }
     const btRigidBody& rb = *rec.rb;
-    out.position = SectorPosition{rec.sector->key, rec.local};
+    out.position = SectorPosition{sector_of(rec).key, rec.local};
     out.orientation = to_eigen(rb.getWorldTransform().getRotation());
     out.linear_velocity = to_eigen(rb.getLinearVelocity());
     out.angular_velocity = to_eigen(rb.getAngularVelocity());
@@ -643,8 +644,7 @@ std::optional<CloneCounts> World::clone_counts(BodyId id) const {
 std::vector<SectorKey> World::sectors() const {
     std::vector<SectorKey> out;
     out.reserve(impl_->sectors.size());
-    for (const auto& entry : impl_->sectors)
-        out.push_back(entry.first);
+    impl_->sectors.for_each([&](const Sector& sector) { out.push_back(sector.key); });
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -654,35 +654,81 @@ Status World::check_consistency() const {
     auto fail = [](const BodyRecord& rec, const std::string& what) {
         return Error{describe_body(*rec.desc) + ": " + what};
     };
-    std::size_t alive = 0;
-    for (std::size_t slot = 0; slot < w.bodies.size(); ++slot) {
+    auto in_world = [](const Sector& sector, const btCollisionObject* object) {
+        const btCollisionObjectArray& objects = sector.world.getCollisionObjectArray();
+        const int at = object->getWorldArrayIndex();
+        return at >= 0 && at < objects.size() && objects[at] == object;
+    };
+    auto lists = [](const std::vector<std::uint32_t>& slots, std::uint32_t slot) {
+        return std::find(slots.begin(), slots.end(), slot) != slots.end();
+    };
+    std::size_t alive = 0, owned = 0, clones = 0, spares = 0;
+    for (std::uint32_t slot = 0; slot < w.bodies.size(); ++slot) {
         const BodyRecord& rec = w.bodies[slot];
         if (!rec.alive) continue;
         ++alive;
+        if (w.slots.count(rec.id) == 0 || w.slots.at(rec.id) != slot)
+            return fail(rec, "is not in the id index");
+        if (rec.spare_clones.size() > w.options.max_spare_clones)
+            return fail(rec, "keeps too many spare clones");
+        spares += rec.spare_clones.size();
         for (const Clone& c : rec.clones) {
-            if (w.find_sector(c.host->key) != c.host)
-                return fail(rec, "has a clone in a sector that does not exist");
+            const Sector* host = w.sectors.get(c.host);
+            if (host == nullptr) return fail(rec, "has a clone in a sector that does not exist");
+            if (!lists(host->hosted, slot)) return fail(rec, "has a clone its host sector does not list");
+            if (!in_world(*host, c.rb.get()))
+                return fail(rec, "has a clone outside its host's physics world");
+            if (rec.plane) continue;
+            ++clones;
+            if (c.host == rec.sector) return fail(rec, "has a clone in its own sector");
+            if (sector_distance(host->key, w.sector_of(rec).key) > engine::kCloneNeighbourhood)
+                return fail(rec, "has a clone far from its own sector");
         }
         if (rec.plane) continue;
+        ++owned;
         const btRigidBody& rb = *rec.rb;
         if (!rec.local.allFinite() || !to_eigen(rb.getLinearVelocity()).allFinite() ||
             !to_eigen(rb.getAngularVelocity()).allFinite() ||
             !to_eigen(rb.getWorldTransform().getRotation()).coeffs().allFinite()) {
             return fail(rec, "state is not finite");
         }
-        if (w.find_sector(rec.sector->key) != rec.sector) return fail(rec, "owner sector does not exist");
-        if (rec.index_in_sector >= rec.sector->originals.size() ||
-            rec.sector->originals[rec.index_in_sector] != slot) {
+        const Sector* owner = w.sectors.get(rec.sector);
+        if (owner == nullptr) return fail(rec, "owner sector does not exist");
+        if (rec.index_in_sector >= owner->originals.size() || owner->originals[rec.index_in_sector] != slot) {
             return fail(rec, "is not listed by its owner sector");
         }
-        if (rb.getBroadphaseHandle() == nullptr) return fail(rec, "is not in its sector's physics world");
+        if (!in_world(*owner, &rb)) return fail(rec, "is not in its sector's physics world");
         // After sectorization a centre is within the band; a frame's motion may carry it further.
         const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size : 0.0);
         if (rec.local.cwiseAbs().maxCoeff() > reach) return fail(rec, "lies far outside its sector");
+        for (std::uint32_t other : rec.partners) {
+            const BodyRecord& partner = w.bodies[other];
+            if (!partner.alive || partner.plane) return fail(rec, "has a partner that is gone");
+            if (!lists(partner.partners, slot)) return fail(rec, "is not its partner's partner");
+        }
     }
     if (alive != w.slots.size()) return Error{"body count and id index disagree"};
-    for (const auto& entry : w.sectors) {
-        if (entry.second->originals.empty()) return Error{"a sector owns no body but was not destroyed"};
+    if (clones != w.clone_count) return Error{"clone count disagrees with the bodies' clones"};
+    if (spares != w.spare_count) return Error{"spare clone count disagrees with the bodies' pools"};
+    std::size_t listed = 0;
+    Status sectors_ok;
+    w.sectors.for_each([&](const Sector& sector) {
+        listed += sector.originals.size();
+        // An empty sector waits for the next step's sectorization to end it, and for nothing else.
+        if (sector.originals.empty() && sectors_ok &&
+            std::find(w.pending_destroy.begin(), w.pending_destroy.end(), sector.id) ==
+                w.pending_destroy.end())
+            sectors_ok = Error{"a sector owns no body but is not queued for destruction"};
+    });
+    if (!sectors_ok) return sectors_ok;
+    if (listed != owned)
+        return Error{"sectors list " + std::to_string(listed) + " bodies, " + std::to_string(owned) +
+                     " bodies are owned"};
+    for (engine::SectorId id : w.awake_list) {
+        if (w.sectors.get(id) == nullptr) return Error{"a destroyed sector is listed as awake"};
+    }
+    for (engine::SectorId id : w.step_set) {
+        if (w.sectors.get(id) == nullptr) return Error{"a destroyed sector is listed as stepped"};
     }
     return {};
 }

@@ -14,6 +14,7 @@
 #include "body_record.hpp"
 #include "lpss/engine/world.hpp"
 #include "sector.hpp"
+#include "sector_table.hpp"
 #include "shared_collision_configuration.hpp"
 #include "thread_pool.hpp"
 
@@ -41,7 +42,9 @@ struct World::Impl {
     void merge_contacts();
 
     // ---- sectors
-    engine::Sector* find_sector(const SectorKey& key) const;
+    engine::Sector* find_sector(const SectorKey& key) const { return sectors.find(key); }
+    /// The sector that owns a (non-plane) body.
+    engine::Sector& sector_of(const engine::BodyRecord& rec) const { return sectors.at(rec.sector); }
     /// Finds or creates a sector; a new sector's anchor is placed near `first_local`, the sector-local
     /// position of the body that brings it into being.
     engine::Sector& sector_for(const SectorKey& key, const Eigen::Vector3d& first_local);
@@ -72,7 +75,6 @@ struct World::Impl {
     void refresh_pairs(std::uint32_t slot);
     void drop_pairs(std::uint32_t slot);
     bool fat_overlap(const engine::BodyRecord& a, const engine::BodyRecord& b) const;
-    void require(std::uint32_t slot, engine::Sector* target);
     engine::Clone& create_clone(std::uint32_t slot, engine::Sector& host);
     void release_clone(std::uint32_t slot, engine::Sector& host);
     void sync_clone(const engine::BodyRecord& record, engine::Clone& clone) const;
@@ -97,7 +99,7 @@ struct World::Impl {
     std::vector<std::unique_ptr<btSequentialImpulseConstraintSolver>> solvers;  ///< one per thread
     engine::ThreadPool pool;
 
-    std::unordered_map<SectorKey, std::unique_ptr<engine::Sector>, SectorKeyHash> sectors;
+    engine::SectorTable sectors;
     std::vector<engine::BodyRecord> bodies;  ///< by slot; slots are reused through free_slots
     std::vector<std::uint32_t> free_slots;
     std::unordered_map<BodyId, std::uint32_t> slots;
@@ -107,16 +109,18 @@ struct World::Impl {
     std::unordered_map<SectorKey, std::unique_ptr<engine::CellTree>, SectorKeyHash> cell_trees;
     std::size_t border_bodies = 0;
 
-    std::vector<std::uint32_t> dirty;         ///< bodies changed by commands since the last step
-    std::vector<engine::Sector*> awake_list;  ///< sectors that may hold awake originals
-    std::vector<engine::Sector*> step_set;    ///< sectors stepped this (or the last) frame
-    std::vector<engine::Sector*> pending_destroy;
+    std::vector<std::uint32_t> dirty;  ///< bodies changed by commands since the last step
+    // Sectors by id, never by pointer: a sector may be destroyed while listed (a body removed by a command
+    // empties it), and a stale id then resolves to nothing.
+    std::vector<engine::SectorId> awake_list;       ///< sectors that may hold awake originals
+    std::vector<engine::SectorId> step_set;         ///< sectors stepped this (or the last) frame
+    std::vector<engine::SectorId> pending_destroy;  ///< emptied by sectorization; destroyed if still empty
 
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;
     std::vector<std::uint32_t> found_scratch;
-    std::vector<std::pair<engine::Sector*, std::uint32_t>> missing_scratch;
-    std::vector<std::pair<engine::Sector*, std::uint32_t>> requirements;
+    std::vector<std::pair<engine::SectorId, std::uint32_t>> missing_scratch;
+    std::vector<std::pair<engine::SectorId, std::uint32_t>> requirements;
 
     struct PairHash {
         std::size_t operator()(const std::pair<BodyId, BodyId>& p) const {

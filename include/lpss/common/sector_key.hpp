@@ -42,6 +42,13 @@ inline bool in_range(const SectorKey& key) {
     return ok(key.i) && ok(key.j) && ok(key.k);
 }
 
+/// The Chebyshev distance between two sectors: 1 for the 26 neighbours of a sector.
+inline std::int64_t sector_distance(const SectorKey& a, const SectorKey& b) {
+    auto gap = [](std::int64_t x, std::int64_t y) { return x > y ? x - y : y - x; };
+    const std::int64_t di = gap(a.i, b.i), dj = gap(a.j, b.j), dk = gap(a.k, b.k);
+    return di > dj ? (di > dk ? di : dk) : (dj > dk ? dj : dk);
+}
+
 /// Hash with full avalanche so that neighbouring keys spread over the buckets of a hash map.
 struct SectorKeyHash {
     std::size_t operator()(const SectorKey& key) const {
