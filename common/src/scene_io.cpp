@@ -103,6 +103,7 @@ BodyDesc body_from_pb(const pb::Body& b, std::string& shape_problem) {
     body.angular_velocity = from_pb(b.angular_velocity());
     if (b.has_material()) body.material = Material{b.material().friction(), b.material().restitution()};
     body.ccd = b.ccd();
+    body.asleep = b.asleep();
     return body;
 }
 
@@ -187,6 +188,7 @@ std::string format_scene(const Scene& scene) {
         b->mutable_material()->set_friction(body.material.friction);
         b->mutable_material()->set_restitution(body.material.restitution);
         b->set_ccd(body.ccd);
+        b->set_asleep(body.asleep);
     }
     std::string text;
     google::protobuf::TextFormat::Printer printer;

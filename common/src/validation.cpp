@@ -39,6 +39,12 @@ public:
         if (!body_.angular_velocity.allFinite()) fail("angular_velocity", "is not finite");
         finite_at_least("material.friction", body_.material.friction, 0.0);
         finite_at_least("material.restitution", body_.material.restitution, 0.0);
+        if (body_.asleep) {
+            if (body_.mass == 0.0) fail("asleep", "applies to dynamic bodies only (this one is static)");
+            if (!settings_.sleeping) fail("asleep", "needs a scene that allows sleeping (sleeping: false)");
+            if (body_.linear_velocity.squaredNorm() > 0.0 || body_.angular_velocity.squaredNorm() > 0.0)
+                fail("asleep", "is at rest: a body starting asleep cannot have a velocity");
+        }
         if (body_.material.restitution > 1.0) {
             fail("material.restitution",
                  "must be <= 1 (a bounce may not add energy), got " + number(body_.material.restitution));

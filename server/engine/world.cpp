@@ -257,6 +257,8 @@ void World::Impl::insert_body(const BodyDesc& desc) {
         rb.setCcdSweptSphereRadius(static_cast<btScalar>(0.9 * engine::inner_radius(desc.shape)));
     }
     if (rec.dynamic && !settings.sleeping) rb.forceActivationState(DISABLE_DEACTIVATION);
+    // Forced: a body merely set to sleep would be woken by Bullet at its first step.
+    if (rec.dynamic && desc.asleep) rb.forceActivationState(ISLAND_SLEEPING);
     rb.setLinearVelocity(to_bt(desc.linear_velocity));
     rb.setAngularVelocity(to_bt(desc.angular_velocity));
 
@@ -269,7 +271,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     rec.sector = sector.id;
     rec.index_in_sector = static_cast<std::uint32_t>(sector.originals.size());
     sector.originals.push_back(slot);
-    if (rec.dynamic) wake(sector);
+    if (rec.dynamic && !desc.asleep) wake(sector);
     dirty.push_back(slot);
 }
 

@@ -4,11 +4,14 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <vector>
 
 #include "lpss/common/logging.hpp"
+#include "lpss/common/process_memory.hpp"
 #include "lpss/common/scene.hpp"
 #include "lpss/common/state_csv.hpp"
 #include "lpss/engine/world.hpp"
@@ -21,7 +24,14 @@ struct FileCloser {
     }
 };
 
+/// Seconds since `start`.
+double since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 struct Totals {
+    double parse = 0, build = 0;  ///< loading: reading and checking the scene; creating the world from it
+    std::vector<double> frame_seconds;
     double sectorize = 0, clone = 0, step = 0, total = 0;
     std::size_t stepped_sectors = 0, sector_changes = 0, contacts_begun = 0, max_clones = 0, max_sectors = 0;
     std::size_t max_border_bodies = 0;
@@ -41,6 +51,8 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
                o.threads);
     fmt::print("frames       {} of {:g} s ({:g} s simulated) in {:.3f} s wall\n", frames, world.settings().dt,
                static_cast<double>(frames) * world.settings().dt, wall);
+    fmt::print("load         {:.3f} s (scene {:.3f} s, world {:.3f} s)\n", t.parse + t.build, t.parse,
+               t.build);
     fmt::print("bodies       {}\n", world.body_count());
     fmt::print("sectors      {} at the end, {} at most; {:.1f} stepped per frame on average\n", last.sectors,
                t.max_sectors,
@@ -48,8 +60,16 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
     fmt::print("borders      {} sector changes, up to {} border bodies and {} clones at once\n",
                t.sector_changes, t.max_border_bodies, t.max_clones);
     fmt::print("contacts     {} began\n", t.contacts_begun);
-    fmt::print("time/frame   {:.4f} ms (sectorize {:.4f}, clone {:.4f}, step {:.4f})\n", t.total * per,
-               t.sectorize * per, t.clone * per, t.step * per);
+    std::vector<double> sorted = t.frame_seconds;
+    std::sort(sorted.begin(), sorted.end());
+    const double p99 = sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
+    fmt::print("time/frame   {:.4f} ms, p99 {:.4f} ms (sectorize {:.4f}, clone {:.4f}, step {:.4f})\n",
+               t.total * per, p99 * 1e3, t.sectorize * per, t.clone * per, t.step * per);
+    if (const std::optional<lpss::MemoryUse> m = lpss::memory_use()) {
+        fmt::print("memory       {:.1f} MiB resident at the end, {:.1f} MiB at most\n",
+                   static_cast<double>(m->resident_bytes) / 1048576.0,
+                   static_cast<double>(m->peak_bytes) / 1048576.0);
+    }
     std::vector<lpss::BodySnapshot> bodies = world.snapshot();
     const std::size_t shown = std::min<std::size_t>(bodies.size(), 12);
     fmt::print("final state  (first {} of {} bodies; global position and sector)\n", shown, bodies.size());
@@ -94,7 +114,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "lpss-sim: %s\n", st.error().message.c_str());
         return 2;
     }
+    Totals totals;
+    const auto load_start = std::chrono::steady_clock::now();
     lpss::Expected<lpss::Scene> scene = lpss::load_scene(scene_path, !monolithic);
+    totals.parse = since(load_start);
     if (!scene) {
         std::fprintf(stderr, "lpss-sim: scene refused:\n%s\n", scene.error().message.c_str());
         return 2;
@@ -104,7 +127,9 @@ int main(int argc, char** argv) {
     options.monolithic = monolithic;
     options.double_positions = !plain_sectors;
     options.floating_origins = !plain_sectors;
+    const auto build_start = std::chrono::steady_clock::now();
     lpss::Expected<lpss::World> created = lpss::World::create(scene.value(), options);
+    totals.build = since(build_start);
     if (!created) {
         std::fprintf(stderr, "lpss-sim: %s\n", created.error().message.c_str());
         return 2;
@@ -127,7 +152,7 @@ int main(int argc, char** argv) {
     };
     if (csv) write_frame();
 
-    Totals totals;
+    totals.frame_seconds.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(frames, 1u << 24)));
     auto start = std::chrono::steady_clock::now();
     for (std::uint64_t f = 1; f <= frames; ++f) {
         world.step();
@@ -136,6 +161,7 @@ int main(int argc, char** argv) {
         totals.clone += s.clone_seconds;
         totals.step += s.step_seconds;
         totals.total += s.total_seconds;
+        totals.frame_seconds.push_back(s.total_seconds);
         totals.stepped_sectors += s.stepped_sectors;
         totals.sector_changes += s.sector_changes;
         totals.max_clones = std::max(totals.max_clones, s.clones);

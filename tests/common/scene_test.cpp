@@ -79,6 +79,19 @@ TEST(Scene, FormatThenParseGivesTheSameScene) {
     EXPECT_EQ(std::get<Eigen::Vector3d>(again.bodies[1].position).x(), 1e12);
 }
 
+TEST(Scene, AsleepNeedsAWorldThatSleepsAndRoundTrips) {
+    const std::string body =
+        "bodies { id: 1 name: \"crate\" shape { sphere { radius: 1 } } mass: 1 asleep: true }";
+    EXPECT_NE(
+        refusal("sector_size: 128 sleeping: false " + body).find("asleep needs a scene that allows sleeping"),
+        std::string::npos);
+    Scene s = parse_scene("sector_size: 128 " + body, "test").value();
+    EXPECT_TRUE(s.bodies[0].asleep);
+    EXPECT_TRUE(parse_scene(format_scene(s), "formatted").value().bodies[0].asleep);
+    s.bodies[0].asleep = false;
+    EXPECT_FALSE(parse_scene(format_scene(s), "formatted").value().bodies[0].asleep);
+}
+
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
     std::string e = refusal("sector_size: 128\nbodies { id: 1 shape { sphere { radius: } } }\n");
     EXPECT_NE(e.find("test:2:"), std::string::npos) << e;
@@ -158,6 +171,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "linear_velocity is not finite"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { y: inf }",
                 "angular_velocity is not finite"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } asleep: true", "asleep applies to dynamic bodies only"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 asleep: true linear_velocity { x: 1 }",
+                "asleep is at rest: a body starting asleep cannot have a velocity"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { friction: -1 }",
                 "material.friction must be >= 0"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 material { restitution: 1.5 }",

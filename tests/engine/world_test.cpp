@@ -170,6 +170,37 @@ TEST(World, EverythingAsleepNothingStepped) {
     EXPECT_GT(world.body(3)->linear_velocity.y(), 1.0);
 }
 
+TEST(World, BodiesStartingAsleepCostNothingUntilSomethingHitsThem) {
+    // A row of boxes resting on a plane, loaded asleep: nothing is stepped, nothing moves. A ball rolled
+    // into the first wakes it and only the sector it is in; the far sector's boxes stay asleep.
+    Scene scene;
+    scene.settings.sector_size = 32;
+    scene.settings.gravity = {0, -9.81, 0};
+    scene.bodies.push_back(scenes::ground_plane(1, Eigen::Vector3d::Zero().eval()));
+    for (int n = 0; n < 4; ++n) {
+        BodyDesc box = scenes::box_body(10 + n, Eigen::Vector3d::Constant(0.5), 1.0,
+                                        Eigen::Vector3d(n < 2 ? 3.0 * n : 64.0 + 3.0 * n, 0.5, 0));
+        box.asleep = true;
+        scene.bodies.push_back(box);
+    }
+    World world = make_world(scene);
+    run(world, 30);
+    EXPECT_EQ(world.last_frame_stats().stepped_sectors, 0u);
+    for (BodyId id : {10, 11, 12, 13}) {
+        EXPECT_FALSE(world.body(id)->awake) << id;
+        EXPECT_EQ(world.body(id)->position.local.y(), 0.5) << "an asleep body does not settle: " << id;
+    }
+    BodyDesc ball = scenes::sphere_body(2, 0.5, 5.0, Eigen::Vector3d(-4, 0.5, 0));
+    ball.linear_velocity = {8, 0, 0};
+    ASSERT_TRUE(world.add_body(ball).ok());
+    run(world, 60);
+    EXPECT_GT(scenes::relative_position(world.grid(), *world.body(10), Eigen::Vector3d::Zero().eval()).x(),
+              0.1)
+        << "the ball pushed the first box";
+    EXPECT_FALSE(world.body(12)->awake);
+    EXPECT_EQ(world.body(12)->position.local, world.body(13)->position.local - Eigen::Vector3d(3, 0, 0));
+}
+
 TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
     Scene scene = scenes::box_stack(Eigen::Vector3d::Zero().eval(), 2, 128.0);
     World world = make_world(scene);

@@ -34,6 +34,7 @@ struct BodyDesc {
     Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
     Material material;
     bool ccd = false;
+    bool asleep = false;  ///< starts deactivated, at rest (dynamic bodies, scenes that allow sleeping)
 
     bool is_static() const { return mass == 0.0; }
 };

@@ -1,0 +1,19 @@
+// How much memory a process holds, as the kernel counts it (Linux /proc): for the programs' reports and
+// the benchmarks that compare them.
+#pragma once
+
+#include <sys/types.h>
+#include <cstdint>
+#include <optional>
+
+namespace lpss {
+
+struct MemoryUse {
+    std::uint64_t resident_bytes = 0;  ///< resident set size now (VmRSS)
+    std::uint64_t peak_bytes = 0;      ///< the most it has held at once (VmHWM)
+};
+
+/// The memory use of a process (this one by default), or nothing if it is gone or unreadable.
+std::optional<MemoryUse> memory_use(pid_t pid = 0);
+
+}  // namespace lpss
