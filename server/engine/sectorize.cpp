@@ -16,8 +16,12 @@ void World::Impl::sectorize(const std::vector<std::uint32_t>& candidates) {
             continue;
         // Any distance: a fast body may cross several sectors in one frame.
         Expected<SectorPosition> to = grid.canonical(SectorPosition{sector_of(rec).key, local});
-        if (!to.ok()) continue;           // past the edge of the grid (index 2^62): it stays where it is
-        if (!owns(to->sector)) continue;  // handed off by its process: World::departures()
+        if (!to.ok()) continue;   // past the edge of the grid (index 2^62): it stays where it is
+        if (!owns(to->sector)) {  // handed off by its process: World::departures()
+            if (!rec.departing) departing.push_back(slot);
+            rec.departing = true;
+            continue;
+        }
         move_body(slot, to.value());
         ++stats.sector_changes;
     }

@@ -319,6 +319,7 @@ Status World::remove_body(BodyId id) {
         sector.originals.pop_back();
         w.drop_pairs(slot);
         w.remove_leaves(slot);
+        w.changed_since_step.push_back(sector.key);
         if (sector.originals.empty()) w.destroy_sector(sector);
     }
     w.dirty.erase(std::remove(w.dirty.begin(), w.dirty.end(), slot), w.dirty.end());
@@ -368,6 +369,8 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     rec.index_in_sector = static_cast<std::uint32_t>(dest.originals.size());
     dest.originals.push_back(slot);
     wake(dest);
+    changed_since_step.push_back(from.key);
+    changed_since_step.push_back(dest.key);
     if (from.originals.empty()) pending_destroy.push_back(from.id);
     // A jump of more than a sector (set_state, a very fast body) leaves clones no partner can need.
     for (std::size_t n = rec.clones.size(); n-- > 0;) {
@@ -485,19 +488,28 @@ bool World::is_ghost(BodyId id) const {
     return slot && !impl_->record(slot.value()).plane && impl_->sector_of(impl_->record(slot.value())).remote;
 }
 
+bool World::Impl::departs(const BodyRecord& rec) const {
+    if (!rec.alive || rec.plane || !rec.dynamic || rec.local.cwiseAbs().maxCoeff() < band) return false;
+    const Sector& sector = sector_of(rec);
+    if (sector.remote) return false;
+    Expected<SectorPosition> to = grid.canonical(SectorPosition{sector.key, rec.local});
+    return to && !owns(to->sector);
+}
+
 std::vector<Departure> World::departures() const {
     const Impl& w = *impl_;
     std::vector<Departure> out;
-    w.sectors.for_each([&](const Sector& sector) {
-        if (sector.remote) return;
-        for (std::uint32_t slot : sector.originals) {
-            const BodyRecord& rec = w.record(slot);
-            if (!rec.dynamic || rec.local.cwiseAbs().maxCoeff() < w.band) continue;
-            Expected<SectorPosition> to = w.grid.canonical(SectorPosition{sector.key, rec.local});
-            if (to && !w.owns(to->sector)) out.push_back(Departure{rec.id, to.value()});
-        }
-    });
+    // Sectorization lists the bodies it leaves past a border; a slot reused since may be listed twice.
+    for (std::uint32_t slot : w.departing) {
+        const BodyRecord& rec = w.record(slot);
+        if (!w.departs(rec)) continue;
+        out.push_back(
+            Departure{rec.id, w.grid.canonical(SectorPosition{w.sector_of(rec).key, rec.local}).value()});
+    }
     std::sort(out.begin(), out.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });
+    out.erase(std::unique(out.begin(), out.end(),
+                          [](const Departure& a, const Departure& b) { return a.id == b.id; }),
+              out.end());
     return out;
 }
 
@@ -512,6 +524,8 @@ std::vector<BodySnapshot> World::sector_bodies(const SectorKey& key) const {
               [](const BodySnapshot& a, const BodySnapshot& b) { return a.id < b.id; });
     return out;
 }
+
+std::vector<SectorKey> World::changed_sectors() const { return impl_->changed_in_frame; }
 
 std::vector<SectorKey> World::stepped_sectors() const {
     std::vector<SectorKey> out;
@@ -547,12 +561,24 @@ void World::Impl::step() {
         }
     }
     for (std::uint32_t slot : dirty) {
-        if (record(slot).alive && record(slot).visit_frame != frame) {
-            record(slot).visit_frame = frame;
+        BodyRecord& rec = record(slot);
+        if (!rec.alive) continue;
+        if (!rec.plane) changed_since_step.push_back(sector_of(rec).key);
+        if (rec.visit_frame != frame) {
+            rec.visit_frame = frame;
             candidates.push_back(slot);
         }
     }
     dirty.clear();
+    // Bodies handed off, removed or brought back since they were found departing are no longer listed.
+    departing.erase(std::remove_if(departing.begin(), departing.end(),
+                                   [&](std::uint32_t slot) {
+                                       BodyRecord& rec = record(slot);
+                                       const bool still = departs(rec);
+                                       if (!still && rec.alive) rec.departing = false;
+                                       return !still;
+                                   }),
+                    departing.end());
 
     if (!options.monolithic) sectorize(candidates);
     // A sector may have been emptied and refilled (keep it), emptied more than once (destroy it once), or
@@ -571,6 +597,16 @@ void World::Impl::step() {
     auto stepped = std::chrono::steady_clock::now();
 
     merge_contacts();
+
+    // What this frame may have changed, for publishers: calls since the last step, sector changes, and
+    // every sector stepped.
+    changed_in_frame.swap(changed_since_step);
+    changed_since_step.clear();
+    for (engine::SectorId id : step_set)
+        changed_in_frame.push_back(sectors.at(id).key);
+    std::sort(changed_in_frame.begin(), changed_in_frame.end());
+    changed_in_frame.erase(std::unique(changed_in_frame.begin(), changed_in_frame.end()),
+                           changed_in_frame.end());
 
     stats.sectorize_seconds = std::chrono::duration<double>(sectorized - start).count();
     stats.clone_seconds = std::chrono::duration<double>(cloned - sectorized).count();

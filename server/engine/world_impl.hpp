@@ -57,6 +57,8 @@ struct World::Impl {
     Status check_new_body(const BodyDesc& body) const;
     void insert_body(const BodyDesc& body);
     void move_body(std::uint32_t slot, const SectorPosition& to);
+    /// Whether an owned body lies past the border into a sector this engine does not own.
+    bool departs(const engine::BodyRecord& rec) const;
     Expected<std::uint32_t> slot_of(BodyId id) const;
     bool owns(const SectorKey& key) const { return !options.owns || options.owns(key); }
     void place_body(std::uint32_t slot, const SectorPosition& at, const Eigen::Quaterniond& orientation);
@@ -110,6 +112,11 @@ struct World::Impl {
     std::size_t border_bodies = 0;
 
     std::vector<std::uint32_t> dirty;  ///< bodies changed by commands since the last step
+    /// Owned bodies found past the border into a sector not owned (World::departures), until handed off.
+    std::vector<std::uint32_t> departing;
+    /// Sectors whose bodies changed: since the last step (calls), and in the last frame (changed_sectors).
+    std::vector<SectorKey> changed_since_step;
+    std::vector<SectorKey> changed_in_frame;
     // Sectors by id, never by pointer: a sector may be destroyed while listed (a body removed by a command
     // empties it), and a stale id then resolves to nothing.
     std::vector<engine::SectorId> awake_list;       ///< sectors that may hold awake originals

@@ -201,6 +201,64 @@ TEST(World, BodiesStartingAsleepCostNothingUntilSomethingHitsThem) {
     EXPECT_EQ(world.body(12)->position.local, world.body(13)->position.local - Eigen::Vector3d(3, 0, 0));
 }
 
+TEST(World, ChangedSectorsNameExactlyWhereSomethingHappened) {
+    // Three balls asleep in three sectors, no gravity; one is set rolling across a border.
+    WorldSettings settings;
+    settings.sector_size = 16;
+    World world = World::create(settings).value();
+    for (int n = 0; n < 3; ++n) {
+        BodyDesc b = ball(n + 1, Eigen::Vector3d(32.0 * n, 0, 0));
+        b.asleep = true;
+        ASSERT_TRUE(world.add_body(b).ok());
+    }
+    world.step();
+    EXPECT_EQ(world.changed_sectors(), (std::vector<SectorKey>{{0, 0, 0}, {2, 0, 0}, {4, 0, 0}}))
+        << "added bodies are news";
+    world.step();
+    EXPECT_TRUE(world.changed_sectors().empty()) << "nothing moves, nothing changed";
+    ASSERT_TRUE(world.set_velocity(1, {60, 0, 0}, {0, 0, 0}).ok());
+    world.step();
+    EXPECT_EQ(world.changed_sectors(), (std::vector<SectorKey>{{0, 0, 0}}));
+    int frames = 0;
+    while (world.body(1)->position.sector == SectorKey{0, 0, 0}) {
+        world.step();
+        ASSERT_LT(++frames, 60);
+    }
+    EXPECT_EQ(world.changed_sectors(), (std::vector<SectorKey>{{0, 0, 0}, {1, 0, 0}})) << "left and entered";
+    ASSERT_TRUE(world.remove_body(3).ok());
+    world.step();
+    EXPECT_EQ(world.changed_sectors(), (std::vector<SectorKey>{{1, 0, 0}, {4, 0, 0}}))
+        << "the moving ball's sector, and the one a body was removed from (now gone)";
+}
+
+TEST(World, DeparturesListBodiesPastABorderIntoSectorsNotOwned) {
+    WorldSettings settings;
+    settings.sector_size = 16;
+    EngineOptions options;
+    options.owns = [](const SectorKey& key) { return key.i <= 0; };
+    World world = World::create(settings, options).value();
+    ASSERT_TRUE(world.add_body(ball(1, Eigen::Vector3d(0, 0, 0))).ok());
+    ASSERT_TRUE(world.add_body(ball(2, Eigen::Vector3d(-16, 0, 0))).ok());
+    ASSERT_TRUE(world.set_velocity(1, {60, 0, 0}, {0, 0, 0}).ok());
+    int frames = 0;
+    while (world.departures().empty()) {
+        world.step();
+        ASSERT_LT(++frames, 60);
+    }
+    const std::vector<Departure> out = world.departures();
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].id, 1u);
+    EXPECT_EQ(out[0].to.sector, (SectorKey{1, 0, 0}));
+    EXPECT_EQ(world.body(1)->position.sector, (SectorKey{0, 0, 0})) << "kept until handed off";
+    // Handed off: the body's new owner has it; here it is a ghost in the sector it entered.
+    BodySnapshot state = *world.body(1);
+    state.position = out[0].to;
+    ASSERT_TRUE(world.set_state(state).ok());
+    world.step();
+    EXPECT_TRUE(world.departures().empty());
+    EXPECT_TRUE(world.is_ghost(1));
+}
+
 TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
     Scene scene = scenes::box_stack(Eigen::Vector3d::Zero().eval(), 2, 128.0);
     World world = make_world(scene);

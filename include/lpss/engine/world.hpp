@@ -134,12 +134,17 @@ public:
     std::optional<BodyDesc> description(BodyId id) const;
     /// Whether a body is a ghost (in a sector this engine does not own).
     bool is_ghost(BodyId id) const;
-    /// Owned bodies that have crossed into sectors this engine does not own, ordered by id.
+    /// Owned bodies that have crossed into sectors this engine does not own, ordered by id. Costs what
+    /// the departing bodies cost, not what the world holds.
     std::vector<Departure> departures() const;
     /// The bodies a sector owns (not clones, not planes), ordered by id.
     std::vector<BodySnapshot> sector_bodies(const SectorKey& key) const;
     /// Sectors stepped in the last frame, in key order.
     std::vector<SectorKey> stepped_sectors() const;
+    /// Sectors whose bodies may have changed (moved, arrived, left, been added or removed) in the last
+    /// frame or by calls made before it, in key order; sectors that no longer exist included. Every other
+    /// sector holds exactly what it held after the frame before: a publisher needs to look nowhere else.
+    std::vector<SectorKey> changed_sectors() const;
 
     /// Contacts that began or ended during the last step, ordered by kind and ids.
     const std::vector<ContactEvent>& contact_events() const;
