@@ -14,12 +14,16 @@
 
 namespace lpss {
 
-// A frame is complete when every worker of the current assignment has said it ended it, and for every
-// sector it owns (that this client follows) a usable sample from between the worker's stamp and this frame
-// arrived: the sector as it was at this frame; and the descriptions of the world's planes, which are in no
-// sector's samples. Samples are buffered by frame and applied in order, so a frame never shows a later
-// frame's state of some sector. A partial sample is usable only on the complete sample it adds to
-// (SectorChain): a late joiner shows its first frame once every sector has come whole.
+// How a client holds consistent frames. A reader that starts asks every worker for an inventory of the
+// sectors it owns in the region followed (the whole world: everything), with the frame of each one's latest
+// sample; the answers come in the workers' WorkerFrames. From then on, each WorkerFrame lists the sectors
+// written in its frame. Frame f is complete when every worker of the assignment in force has said it ended
+// f, and a usable sample of each sector it lists as written at f has arrived (and, for the first frame, of
+// each sector of the inventories, from the frame it names on): a sector not written since holds what it
+// held. Samples are buffered by frame and applied in order, so a frame never mixes in a later frame's state
+// of some sector. A partial sample is usable only on the sample it follows (SectorChain): a sector whose
+// chain broke (samples lost) is asked for whole. Planes, in no sector's samples, come from their durable
+// descriptions, which a frame waits for as the marks count them.
 struct Client::State {
     ClientOptions options;
     std::unique_ptr<dds::Participant> participant;
@@ -27,14 +31,16 @@ struct Client::State {
     std::unique_ptr<dds::Reader<wire::SectorFrame>> frames_in;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Assignment>> assignment_in;
-    std::unique_ptr<dds::Reader<wire::BodyDescription>> descriptions_in;
+    std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;
     std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;
     std::unique_ptr<dds::Writer<wire::Command>> commands_out;
     std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
 
     std::optional<SectorGrid> grid;
-    std::vector<std::uint32_t> workers;
-    std::unordered_map<BodyId, BodyDesc> descriptions;
+    /// Assignments by the frame they take effect from: which workers end each frame.
+    std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
+    std::map<BodyId, BodyDesc> planes;
+    std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
     dds::SectorChain chain;                                           ///< which samples are usable
     dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
@@ -42,16 +48,19 @@ struct Client::State {
     std::set<SectorKey> wanted_whole;
     std::unordered_map<SectorKey, std::chrono::steady_clock::time_point, SectorKeyHash> asked;
     std::uint64_t next_sector_request = 1;
-    /// What a worker said at the end of a frame: the sectors it owns (that this client follows), each with
-    /// the frame of its latest sample, and how many planes the world holds.
+
+    /// What a worker said at the end of a frame: the sectors it wrote (that this client follows), how many
+    /// planes the world holds, and its answer to this client's inventory request if it carries one.
     struct Mark {
-        std::vector<std::pair<SectorKey, std::uint64_t>> stamps;
+        std::vector<SectorKey> written;
         std::uint32_t planes = 0;
+        std::optional<std::vector<std::pair<SectorKey, std::uint64_t>>> inventory;
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
-    std::set<BodyId> plane_descriptions;
-    std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> description_instances;
-    std::set<std::uint64_t> marked_frames;
+    std::uint64_t inventory_request = 0;        ///< 0: not asked yet
+    bool synced = false;                        ///< the inventories are in: frames follow from `applied`
+    std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
+    std::set<SectorKey> unconfirmed;            ///< from inventories: not yet held at their stamp
     std::uint64_t applied = 0;
     std::optional<WorldFrame> latest;
     std::function<void(const WorldFrame&)> callback;
@@ -59,8 +68,14 @@ struct Client::State {
     std::uint64_t next_request = 1;
 
     bool follows(const SectorKey& key) const { return !options.region || options.region->contains(key); }
+    const std::vector<std::uint32_t>* workers_of(std::uint64_t frame) const;
     void take();
-    bool complete(std::uint64_t frame) const;
+    void ask_for_inventory();
+    bool sync();
+    bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const;
+    /// The stamps as of `frame`, from the current ones and the marks after `applied`; false if a mark is
+    /// missing.
+    bool stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const;
     void apply_until(std::uint64_t frame);
     WorldFrame frame_view(std::uint64_t frame) const;
     std::uint64_t send(wire::Command command);
@@ -74,7 +89,7 @@ Client::~Client() {
     state_->frames_in.reset();
     state_->marks_in.reset();
     state_->assignment_in.reset();
-    state_->descriptions_in.reset();
+    state_->planes_in.reset();
     state_->results_in.reset();
     state_->commands_out.reset();
     state_->requests_out.reset();
@@ -103,7 +118,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
     state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
         p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
-    state->descriptions_in = std::make_unique<Reader<wire::BodyDescription>>(
+    state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);
     state->results_in = std::make_unique<Reader<wire::CommandResult>>(
@@ -114,7 +129,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
         p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
     if (!state->frames_in->ok() || !state->marks_in->ok() || !state->assignment_in->ok() ||
-        !state->descriptions_in->ok() || !state->results_in->ok() || !state->commands_out->ok() ||
+        !state->planes_in->ok() || !state->results_in->ok() || !state->commands_out->ok() ||
         !state->requests_out->ok()) {
         return Error{"cannot create the client's DDS readers and writers"};
     }
@@ -125,38 +140,44 @@ void Client::State::take() {
     assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
         grid = SectorGrid(a.settings().sector_size());
-        workers = a.workers();
+        workers_from[a.from_frame()] = a.workers();
     });
-    descriptions_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
+    planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) {
-            BodyDesc body = dds::from_wire(d);
-            if (is_plane(body.shape)) plane_descriptions.insert(body.id);
-            description_instances[info.instance_handle] = body.id;
-            descriptions[d.id()] = std::move(body);
+            plane_instances[info.instance_handle] = d.id();
+            planes[d.id()] = dds::from_wire(d);
             return;
         }
-        // Disposed: the body was removed. The sample holds no data, and the reader may have forgotten the
+        // Disposed: the plane was removed. The sample holds no data, and the reader may have forgotten the
         // instance's key by now: the id comes from the instance's earlier samples.
-        auto instance = description_instances.find(info.instance_handle);
-        if (instance == description_instances.end()) return;
-        const BodyId id = instance->second;
-        description_instances.erase(instance);
-        descriptions.erase(id);
-        plane_descriptions.erase(id);
+        auto instance = plane_instances.find(info.instance_handle);
+        if (instance == plane_instances.end()) return;
+        planes.erase(instance->second);
+        plane_instances.erase(instance);
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || m.frame() == 0) return;
+        if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
         Mark mark;
-        for (const wire::SectorStamp& st : m.sectors()) {
-            const SectorKey key = dds::from_wire(st.sector());
-            if (follows(key)) mark.stamps.emplace_back(key, st.frame());
+        for (const wire::SectorKey& k : m.written()) {
+            const SectorKey key = dds::from_wire(k);
+            if (follows(key)) mark.written.push_back(key);
         }
         mark.planes = m.planes();
+        for (const wire::SectorInventory& inventory : m.inventories()) {
+            // Answers to this client's request, or the inventories a worker gives when a reader joins.
+            const bool for_me =
+                inventory.reader() == options.name && inventory.request() == inventory_request;
+            if (!for_me && !(inventory.reader().empty() && !synced)) continue;
+            mark.inventory.emplace();
+            for (const wire::SectorStamp& st : inventory.sectors()) {
+                const SectorKey key = dds::from_wire(st.sector());
+                if (follows(key)) mark.inventory->emplace_back(key, st.frame());
+            }
+        }
         marks[{m.worker(), m.frame()}] = std::move(mark);
-        marked_frames.insert(m.frame());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;
+        if (!info.valid_data || f.worker() == 0) return;  // the coordinator's samples are for workers
         if (!chain.accept(f)) {
             wanted_whole.insert(dds::from_wire(f.sector()));
             return;
@@ -168,12 +189,38 @@ void Client::State::take() {
         if (!info.valid_data || r.client() != options.name) return;
         outcomes[r.request()] = CommandOutcome{r.applied(), r.order(), r.frame(), r.reason()};
     });
+    ask_for_inventory();
     ask_for_whole_sectors();
 }
 
+const std::vector<std::uint32_t>* Client::State::workers_of(std::uint64_t frame) const {
+    auto it = workers_from.upper_bound(frame);
+    if (it == workers_from.begin()) return nullptr;
+    return &std::prev(it)->second;
+}
+
+void Client::State::ask_for_inventory() {
+    // Once every worker's request reader and sector writer are matched, so that the answer finds this client
+    // reading (the samples it names are in the workers' histories, which a matched reader receives).
+    if (synced || inventory_request != 0 || !grid || workers_from.empty()) return;
+    const int workers = static_cast<int>(workers_from.rbegin()->second.size());
+    if (requests_out->matched() < workers || marks_in->matched() < workers) return;
+    wire::SectorRequest request;
+    request.reader(options.name);
+    inventory_request = next_sector_request++;
+    request.request(inventory_request);
+    request.inventory(true);
+    const SectorKey lo = options.region ? options.region->lo : SectorKey{INT64_MIN, INT64_MIN, INT64_MIN};
+    const SectorKey hi = options.region ? options.region->hi : SectorKey{INT64_MAX, INT64_MAX, INT64_MAX};
+    request.lo(dds::to_wire(lo));
+    request.hi(dds::to_wire(hi));
+    requests_out->write(request);
+}
+
 void Client::State::ask_for_whole_sectors() {
-    // Without a request the owner sends the sector whole within 30 frames anyway; asking makes it the next
-    // frame. Asked again while refused, not more than every 100 ms (a request can be lost to discovery).
+    // Without a request a refused sector would wait for the next complete sample, which may never come;
+    // asking makes it the next frame. Asked again while refused, not more than every 100 ms (a request can
+    // be lost to discovery).
     const auto now = std::chrono::steady_clock::now();
     wire::SectorRequest request;
     for (const SectorKey& key : wanted_whole) {
@@ -188,27 +235,85 @@ void Client::State::ask_for_whole_sectors() {
     requests_out->write(request);
 }
 
-bool Client::State::complete(std::uint64_t frame) const {
-    if (workers.empty() || !grid) return false;
-    for (std::uint32_t w : workers) {
-        auto it = marks.find({w, frame});
-        if (it == marks.end()) return false;
-        // Planes are shown from their descriptions, which travel apart from the frames.
-        if (plane_descriptions.size() < it->second.planes) return false;
-        // A sample of each sector from between its stamp and this frame: that sector's state at this frame.
-        for (const auto& [key, stamp] : it->second.stamps) {
-            if (!chain.holds(key, stamp, frame)) return false;
+bool Client::State::sync() {
+    // Every worker of the newest assignment has answered: the sectors it owns, each as of its stamp. Frames
+    // start from the latest answer; the workers that answered earlier list what they wrote since.
+    if (workers_from.empty()) return false;
+    const std::vector<std::uint32_t>& workers = workers_from.rbegin()->second;
+    std::map<std::uint32_t, std::uint64_t> answered;
+    for (const auto& [at, mark] : marks) {
+        if (mark.inventory && std::find(workers.begin(), workers.end(), at.first) != workers.end())
+            answered[at.first] = at.second;
+    }
+    if (answered.size() < workers.size()) return false;
+    std::uint64_t start = 0;
+    for (const auto& [w, f] : answered)
+        start = std::max(start, f);
+    stamps.clear();
+    unconfirmed.clear();
+    for (const auto& [w, f] : answered) {
+        for (const auto& [key, stamp] : *marks.at({w, f}).inventory) {
+            stamps[key] = std::max(stamps[key], stamp);
+            unconfirmed.insert(key);
+        }
+        for (std::uint64_t g = f + 1; g <= start; ++g) {
+            auto it = marks.find({w, g});
+            if (it == marks.end()) {
+                // A gap: what it wrote then is unknown. Ask again.
+                inventory_request = 0;
+                return false;
+            }
+            for (const SectorKey& key : it->second.written)
+                stamps[key] = g;
+        }
+    }
+    applied = start - 1;
+    synced = true;
+    return true;
+}
+
+bool Client::State::stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
+    out = stamps;
+    for (std::uint64_t f = applied + 1; f <= frame; ++f) {
+        const std::vector<std::uint32_t>* workers = workers_of(f);
+        if (workers == nullptr) return false;
+        for (std::uint32_t w : *workers) {
+            auto it = marks.find({w, f});
+            if (it == marks.end()) return false;
+            for (const SectorKey& key : it->second.written)
+                out[key] = f;
         }
     }
     return true;
 }
 
-void Client::State::apply_until(std::uint64_t frame) {
-    while (!pending.empty() && pending.begin()->first <= frame) {
-        for (const wire::SectorFrame& f : pending.begin()->second)
-            mirror.apply(f);
-        pending.erase(pending.begin());
+bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const {
+    const std::vector<std::uint32_t>* workers = workers_of(frame);
+    if (workers == nullptr || !grid) return false;
+    for (std::uint32_t w : *workers) {
+        auto it = marks.find({w, frame});
+        if (it == marks.end()) return false;
+        // Planes are shown from their descriptions, which travel apart from the frames.
+        if (planes.size() < it->second.planes) return false;
+        for (const SectorKey& key : it->second.written) {
+            if (!chain.holds(key, frame, frame)) return false;
+        }
     }
+    for (const SectorKey& key : unconfirmed) {
+        if (!chain.holds(key, stamps.at(key), frame)) return false;
+    }
+    return true;
+}
+
+void Client::State::apply_until(std::uint64_t frame) {
+    std::vector<const wire::SectorFrame*> batch;
+    const auto end = pending.upper_bound(frame);
+    for (auto it = pending.begin(); it != end; ++it) {
+        for (const wire::SectorFrame& f : it->second)
+            batch.push_back(&f);
+    }
+    mirror.apply(batch);
+    pending.erase(pending.begin(), end);
     chain.forget_applied(frame);
 }
 
@@ -231,8 +336,7 @@ WorldFrame Client::State::frame_view(std::uint64_t frame) const {
         }
     }
     // Planes are not in any sector's frames (each worker holds its own instances): from descriptions.
-    for (const auto& [id, d] : descriptions) {
-        if (!is_plane(d.shape)) continue;
+    for (const auto& [id, d] : planes) {
         BodyView b;
         b.id = id;
         b.position = std::get<SectorPosition>(d.position);
@@ -251,19 +355,61 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
     if (wait.count() > 0) s.inbox.wait(wait);
     s.take();
     std::vector<WorldFrame> out;
-    // Frames complete in order; an older frame still incomplete when a newer one is complete never will
-    // be (a late joiner finds only the last few frames' marks of each worker): it is skipped.
-    std::uint64_t newest_complete = 0;
-    for (std::uint64_t f : s.marked_frames) {
-        if (f > s.applied && s.complete(f)) newest_complete = f;
-    }
-    for (auto it = s.marked_frames.begin(); it != s.marked_frames.end() && *it <= newest_complete;) {
-        const std::uint64_t f = *it;
-        it = s.marked_frames.erase(it);
-        if (f <= s.applied || !s.complete(f)) continue;
-        s.apply_until(f);
-        s.applied = f;
-        out.push_back(s.frame_view(f));
+    if (!s.synced && !s.sync()) return out;
+    for (;;) {
+        const std::uint64_t f = s.applied + 1;
+        const std::vector<std::uint32_t>* workers = s.workers_of(f);
+        if (workers == nullptr) break;
+        // What the workers wrote at f: sectors not written since hold what they held.
+        bool marked = true;
+        for (std::uint32_t w : *workers)
+            marked = marked && s.marks.count({w, f});
+        if (!marked) {
+            // A worker whose end of f is missing while a later one is here: the marks of frames this client
+            // did not read in time were replaced by newer ones (a client not polled for a while), and what
+            // was written then is unknown. Ask for the inventories again and go on from their answers.
+            bool gap = false;
+            for (std::uint32_t w : *workers) {
+                auto later = s.marks.lower_bound({w, f});
+                gap = gap || (!s.marks.count({w, f}) && later != s.marks.end() && later->first.first == w);
+            }
+            if (gap) {
+                s.synced = false;
+                s.inventory_request = 0;
+                for (auto& [at, mark] : s.marks)
+                    mark.inventory.reset();  // answers to the request before
+                break;
+            }
+            // A worker that never ends f is gone if the assignment of the next frame leaves it out and the
+            // others have ended that one: its sectors come whole from their new owners. Skip f.
+            const std::vector<std::uint32_t>* after = s.workers_of(f + 1);
+            bool skip = after != nullptr && after != workers;
+            for (std::uint32_t w : after ? *after : std::vector<std::uint32_t>{})
+                skip = skip && s.marks.count({w, f + 1});
+            if (!skip) break;
+            for (std::uint32_t w : *workers) {
+                if (auto it = s.marks.find({w, f}); it != s.marks.end()) {
+                    for (const SectorKey& key : it->second.written)
+                        s.stamps[key] = f;
+                }
+            }
+            s.applied = f;
+            continue;
+        }
+        // Frame f, or if it never will be complete (samples it needs were replaced by newer ones before
+        // this client read them, or a sector of an inventory came whole only later), the first marked frame
+        // after it that is: frames in between are skipped.
+        std::map<SectorKey, std::uint64_t> at;
+        std::uint64_t show = 0;
+        for (std::uint64_t g = f; show == 0 && s.stamps_at(g, at); ++g) {
+            if (s.complete(g, at)) show = g;
+        }
+        if (show == 0) break;
+        s.stamps = std::move(at);
+        s.apply_until(show);
+        s.applied = show;
+        s.unconfirmed.clear();  // complete() found each of them held
+        out.push_back(s.frame_view(show));
     }
     for (auto it = s.marks.begin(); it != s.marks.end();)
         it = it->first.second <= s.applied ? s.marks.erase(it) : std::next(it);
@@ -277,8 +423,10 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
 bool Client::wait_for_cluster(std::chrono::milliseconds limit) {
     State& s = *state_;
     auto connected = [&] {
+        const int workers =
+            s.workers_from.empty() ? 0 : static_cast<int>(s.workers_from.rbegin()->second.size());
         return s.grid && s.commands_out->matched() > 0 &&
-               s.results_in->matched() >= static_cast<int>(s.workers.size()) + 1;  // coordinator, workers
+               s.results_in->matched() >= workers + 1;  // coordinator, workers
     };
     const auto end = std::chrono::steady_clock::now() + limit;
     while (!connected() && std::chrono::steady_clock::now() < end) {
@@ -295,9 +443,9 @@ const std::optional<WorldFrame>& Client::latest() const { return state_->latest;
 std::optional<SectorGrid> Client::grid() const { return state_->grid; }
 
 std::optional<BodyDesc> Client::description(BodyId id) const {
-    auto it = state_->descriptions.find(id);
-    if (it == state_->descriptions.end()) return std::nullopt;
-    return it->second;
+    if (auto plane = state_->planes.find(id); plane != state_->planes.end()) return plane->second;
+    if (const wire::BodyKind* kind = state_->mirror.kind(id)) return dds::from_wire(*kind);
+    return std::nullopt;
 }
 
 std::uint64_t Client::State::send(wire::Command command) {
@@ -322,7 +470,7 @@ std::uint64_t Client::spawn(const BodyDesc& body) {
     } else {
         at.position = std::get<SectorPosition>(body.position);
     }
-    c.spawn(dds::describe(body, at, 0));
+    c.spawn(dds::describe(body, at));
     return state_->send(c);
 }
 

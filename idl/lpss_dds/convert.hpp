@@ -20,8 +20,15 @@ wire::BodyState to_wire(const BodySnapshot& body);
 /// The state read back, placed in `sector`.
 BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector);
 
-/// A body's description, placed at `where` with the given state (a plane: its anchor).
-wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, std::uint32_t owner);
+/// What a body is (shape, mass, material, name), without where it is.
+wire::BodyKind kind_of(const BodyDesc& body);
+/// The kind read back as a BodyDesc at rest at the origin (not validated: validate before use).
+BodyDesc from_wire(const wire::BodyKind& kind);
+/// A body placed with the given state, what it is included (a plane: at its anchor).
+BodyDesc placed(BodyDesc body, const BodySnapshot& state);
+
+/// A body's whole description, placed at `state` (a plane: its anchor).
+wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state);
 /// The description read back as a BodyDesc placed by sector (not validated: validate before use).
 BodyDesc from_wire(const wire::BodyDescription& description);
 

@@ -47,9 +47,12 @@ public:
         return topic(name, type);
     }
     /// A content-filtered view of the sector frames topic holding only sectors with indices in
-    /// [lo, hi] on each axis (region_filter.hpp).
+    /// [lo, hi] on each axis (sector_filters.hpp).
     fdds::TopicDescription* sector_region(const std::string& frames_topic, const std::int64_t lo[3],
                                           const std::int64_t hi[3]);
+    /// A content-filtered view of the sector frames topic holding only the samples addressed to a worker
+    /// (sector_filters.hpp).
+    fdds::TopicDescription* sector_recipient(const std::string& frames_topic, std::uint32_t worker);
 
     fdds::DomainParticipant* raw() { return participant_; }
     fdds::Publisher* publisher() { return publisher_; }
@@ -66,7 +69,9 @@ private:
     fdds::Subscriber* subscriber_ = nullptr;
     std::map<std::string, fdds::Topic*> topics_;
     std::map<std::string, fdds::TopicDescription*> filtered_;
-    std::unique_ptr<fdds::IContentFilterFactory> region_factory_;
+    std::unique_ptr<fdds::IContentFilterFactory> filter_factory_;
+    fdds::TopicDescription* filtered(const std::string& frames_topic, const char* filter_class,
+                                     const std::vector<std::string>& parameters);
     int next_filter_ = 0;
 };
 

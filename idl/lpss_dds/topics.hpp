@@ -15,6 +15,7 @@ inline constexpr const char* kFrameGo = "lpss/frame_go";
 inline constexpr const char* kCommands = "lpss/commands";
 inline constexpr const char* kCommandResults = "lpss/command_results";
 inline constexpr const char* kSectorRequests = "lpss/sector_requests";
+inline constexpr const char* kStatus = "lpss/status";
 
 /// How a topic is delivered.
 struct Delivery {

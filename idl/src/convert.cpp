@@ -70,54 +70,43 @@ BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
     return out;
 }
 
-wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state, std::uint32_t owner) {
-    wire::BodyDescription d;
-    d.id(body.id);
-    d.name(body.name);
+wire::BodyKind kind_of(const BodyDesc& body) {
+    wire::BodyKind k;
+    k.id(body.id);
+    k.name(body.name);
     std::vector<wire::Vec3d> points;
     if (const auto* s = std::get_if<Sphere>(&body.shape)) {
-        d.shape(0);
-        d.size(to_wire(Eigen::Vector3d(s->radius, 0, 0)));
+        k.shape(0);
+        k.size(to_wire(Eigen::Vector3d(s->radius, 0, 0)));
     } else if (const auto* b = std::get_if<Box>(&body.shape)) {
-        d.shape(1);
-        d.size(to_wire(b->half_extents));
+        k.shape(1);
+        k.size(to_wire(b->half_extents));
     } else if (const auto* c = std::get_if<Capsule>(&body.shape)) {
-        d.shape(2);
-        d.size(to_wire(Eigen::Vector3d(c->radius, c->height, 0)));
+        k.shape(2);
+        k.size(to_wire(Eigen::Vector3d(c->radius, c->height, 0)));
     } else if (const auto* h = std::get_if<ConvexHull>(&body.shape)) {
-        d.shape(3);
+        k.shape(3);
         for (const Eigen::Vector3d& p : h->points)
             points.push_back(to_wire(p));
     } else if (const auto* p = std::get_if<Plane>(&body.shape)) {
-        d.shape(4);
-        d.size(to_wire(p->normal));
-        d.plane_offset(p->offset);
+        k.shape(4);
+        k.size(to_wire(p->normal));
+        k.plane_offset(p->offset);
     }
-    d.hull_points(points);
-    d.mass(body.mass);
-    d.friction(body.material.friction);
-    d.restitution(body.material.restitution);
-    d.ccd(body.ccd);
-    d.sector(to_wire(state.position.sector));
-    d.offset(to_wire(state.position.local));
-    wire::Quatd q;
-    q.x(state.orientation.x());
-    q.y(state.orientation.y());
-    q.z(state.orientation.z());
-    q.w(state.orientation.w());
-    d.orientation(q);
-    d.linear_velocity(to_wire(state.linear_velocity));
-    d.angular_velocity(to_wire(state.angular_velocity));
-    d.owner(owner);
-    return d;
+    k.hull_points(std::move(points));
+    k.mass(body.mass);
+    k.friction(body.material.friction);
+    k.restitution(body.material.restitution);
+    k.ccd(body.ccd);
+    return k;
 }
 
-BodyDesc from_wire(const wire::BodyDescription& d) {
+BodyDesc from_wire(const wire::BodyKind& k) {
     BodyDesc body;
-    body.id = d.id();
-    body.name = d.name();
-    const Eigen::Vector3d size = from_wire(d.size());
-    switch (d.shape()) {
+    body.id = k.id();
+    body.name = k.name();
+    const Eigen::Vector3d size = from_wire(k.size());
+    switch (k.shape()) {
         case 0:
             body.shape = Sphere{size.x()};
             break;
@@ -129,25 +118,58 @@ BodyDesc from_wire(const wire::BodyDescription& d) {
             break;
         case 3: {
             ConvexHull hull;
-            for (const wire::Vec3d& p : d.hull_points())
+            for (const wire::Vec3d& p : k.hull_points())
                 hull.points.push_back(from_wire(p));
             body.shape = hull;
             break;
         }
         case 4:
-            body.shape = Plane{size, d.plane_offset()};
+            body.shape = Plane{size, k.plane_offset()};
             break;
         default:
             body.shape = Sphere{0.0};  // refused by validation
     }
-    body.mass = d.mass();
-    body.material = Material{d.friction(), d.restitution()};
-    body.ccd = d.ccd();
+    body.mass = k.mass();
+    body.material = Material{k.friction(), k.restitution()};
+    body.ccd = k.ccd();
+    return body;
+}
+
+BodyDesc placed(BodyDesc body, const BodySnapshot& state) {
+    body.position = state.position;
+    body.orientation = state.orientation;
+    body.linear_velocity = state.linear_velocity;
+    body.angular_velocity = state.angular_velocity;
+    return body;
+}
+
+wire::BodyDescription describe(const BodyDesc& body, const BodySnapshot& state) {
+    wire::BodyDescription d;
+    d.id(body.id);
+    d.kind(kind_of(body));
+    d.sector(to_wire(state.position.sector));
+    d.offset(to_wire(state.position.local));
+    wire::Quatd q;
+    q.x(state.orientation.x());
+    q.y(state.orientation.y());
+    q.z(state.orientation.z());
+    q.w(state.orientation.w());
+    d.orientation(q);
+    d.linear_velocity(to_wire(state.linear_velocity));
+    d.angular_velocity(to_wire(state.angular_velocity));
+    d.asleep(body.asleep);
+    return d;
+}
+
+BodyDesc from_wire(const wire::BodyDescription& d) {
+    BodyDesc body = from_wire(d.kind());
+    body.id = d.id();
     body.position = SectorPosition{from_wire(d.sector()), from_wire(d.offset())};
     body.orientation = Eigen::Quaterniond(d.orientation().w(), d.orientation().x(), d.orientation().y(),
                                           d.orientation().z());
     body.linear_velocity = from_wire(d.linear_velocity());
     body.angular_velocity = from_wire(d.angular_velocity());
+    body.asleep = d.asleep();
     return body;
 }
 

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "lpss_dds/region_filter.hpp"
+#include "lpss_dds/sector_filters.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::dds {
@@ -60,8 +60,9 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
         return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    p->region_factory_ = std::make_unique<RegionFilterFactory>();
-    p->participant_->register_content_filter_factory(kRegionFilterClass, p->region_factory_.get());
+    p->filter_factory_ = std::make_unique<SectorFilterFactory>();
+    p->participant_->register_content_filter_factory(kRegionFilterClass, p->filter_factory_.get());
+    p->participant_->register_content_filter_factory(kRecipientFilterClass, p->filter_factory_.get());
     if (p->publisher_ == nullptr || p->subscriber_ == nullptr)
         return Error{"cannot create DDS publisher/subscriber"};
     return p;
@@ -79,6 +80,7 @@ Participant::~Participant() {
     if (publisher_) participant_->delete_publisher(publisher_);
     if (subscriber_) participant_->delete_subscriber(subscriber_);
     participant_->unregister_content_filter_factory(kRegionFilterClass);
+    participant_->unregister_content_filter_factory(kRecipientFilterClass);
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
 }
 
@@ -91,20 +93,31 @@ fdds::Topic* Participant::topic(const std::string& name, fdds::TypeSupport& type
     return topic;
 }
 
-fdds::TopicDescription* Participant::sector_region(const std::string& frames_topic, const std::int64_t lo[3],
-                                                   const std::int64_t hi[3]) {
+fdds::TopicDescription* Participant::filtered(const std::string& frames_topic, const char* filter_class,
+                                              const std::vector<std::string>& parameters) {
     auto it = topics_.find(frames_topic);
     if (it == topics_.end()) return nullptr;
+    const std::string name = frames_topic + "/filtered" + std::to_string(next_filter_++);
+    // The expression is not read by lpss's filters, but must not be empty: Fast DDS announces a filter
+    // to the writers (which then filter for this reader) only when it has one.
+    fdds::ContentFilteredTopic* topic =
+        participant_->create_contentfilteredtopic(name, it->second, filter_class, parameters, filter_class);
+    if (topic) filtered_.emplace(name, topic);
+    return topic;
+}
+
+fdds::TopicDescription* Participant::sector_region(const std::string& frames_topic, const std::int64_t lo[3],
+                                                   const std::int64_t hi[3]) {
     std::vector<std::string> parameters;
     for (int a = 0; a < 3; ++a) {
         parameters.push_back(std::to_string(lo[a]));
         parameters.push_back(std::to_string(hi[a]));
     }
-    const std::string name = frames_topic + "/region" + std::to_string(next_filter_++);
-    fdds::ContentFilteredTopic* filtered =
-        participant_->create_contentfilteredtopic(name, it->second, "region", parameters, kRegionFilterClass);
-    if (filtered) filtered_.emplace(name, filtered);
-    return filtered;
+    return filtered(frames_topic, kRegionFilterClass, parameters);
+}
+
+fdds::TopicDescription* Participant::sector_recipient(const std::string& frames_topic, std::uint32_t worker) {
+    return filtered(frames_topic, kRecipientFilterClass, {std::to_string(worker)});
 }
 
 void Inbox::on_data_available(fdds::DataReader*) {
@@ -151,7 +164,15 @@ Qos with_delivery(Qos q, const Delivery& d) {
 
 }  // namespace
 
-fdds::DataWriterQos writer_qos(const Delivery& d) { return with_delivery(fdds::DATAWRITER_QOS_DEFAULT, d); }
+fdds::DataWriterQos writer_qos(const Delivery& d) {
+    fdds::DataWriterQos q = with_delivery(fdds::DATAWRITER_QOS_DEFAULT, d);
+    // Writers filter for their readers (workers' recipient filters, clients' regions), so that a sample
+    // travels only to the readers that want it: Fast DDS does so for up to this many filtered readers
+    // (default 32), and only while the writer's liveliness lease is infinite (the default).
+    q.writer_resource_limits().reader_filters_allocation =
+        eprosima::fastrtps::ResourceLimitedContainerConfig(0u, 1024u, 4u);
+    return q;
+}
 
 fdds::DataReaderQos reader_qos(const Delivery& d) { return with_delivery(fdds::DATAREADER_QOS_DEFAULT, d); }
 

@@ -1,5 +1,6 @@
 #include "coordinator.hpp"
 
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -14,6 +15,8 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::coordinator {
@@ -24,30 +27,38 @@ using Clock = std::chrono::steady_clock;
 /// A rebalance is made only if it brings the heaviest worker's load down to this share of what it is.
 constexpr double kRebalanceGain = 0.85;
 
-/// What the coordinator knows of a body: enough to validate commands and describe it.
-struct BodyEntry {
-    BodyDesc desc;
-    BodySnapshot state;  ///< as of its last description
-    std::uint32_t owner = 0;
-};
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 }  // namespace
 
 struct Coordinator::State {
     CoordinatorOptions options;
-    Scene scene;
+    WorldSettings settings;
     SectorGrid grid{1.0};
     std::unique_ptr<dds::Participant> participant;
     dds::Inbox inbox;
     std::unique_ptr<dds::Writer<wire::FrameGo>> go_out;
     std::unique_ptr<dds::Writer<wire::Assignment>> assignment_out;
-    std::unique_ptr<dds::Writer<wire::BodyDescription>> descriptions_out;
+    std::unique_ptr<dds::Writer<wire::BodyDescription>> planes_out;
     std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
+    std::unique_ptr<dds::Writer<wire::WorkerFrame>>
+        marks_out;  ///< as worker 0, when it writes sectors itself
+    std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;  ///< the world's first state; restores
+    std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Command>> commands_in;
+    std::unique_ptr<dds::Reader<wire::SectorFrame>> sectors_in;
 
-    std::vector<BodyId> order;  ///< bodies in the order they were described
-    std::unordered_map<BodyId, BodyEntry> bodies;
+    /// Every body's id, and whether it is static: what commands are checked against. Bodies come and go
+    /// through the coordinator only (the scene, spawns, removals), so this is always exact.
+    std::unordered_map<BodyId, bool> statics;
+    std::map<BodyId, BodyDesc> planes;
+    /// The world as the workers last published it (plus in-flight handoffs): what a worker that is gone
+    /// leaves behind, restored to the workers that take its sectors over.
+    dds::SectorMirror mirror;
+    dds::SectorChain chain;
+    std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
+
     SectorAssignment current;
     SectorAssignment next;
     std::set<std::uint32_t> live;
@@ -60,27 +71,31 @@ struct Coordinator::State {
         std::uint32_t worker = 0;
     };
     std::map<SectorKey, ReportedLoad> block_loads;
-    std::vector<wire::Handoff> grants;    ///< for the next frame
-    std::vector<wire::Command> commands;  ///< accepted, for the next frame
+    std::vector<wire::Handoff> grants;     ///< for the next frame
+    std::vector<wire::Handoff> in_flight;  ///< granted with the last frame started
+    std::vector<wire::Command> commands;   ///< accepted, for the next frame
     std::vector<std::uint64_t> command_order;
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
+    bool wrote_sectors = false;  ///< for the frame before the next: its FrameGo says so
+    std::vector<std::uint32_t> ended;
     Clock::time_point frame_started;
 
+    void status(const std::string& phase, double progress, std::uint64_t bodies);
+    Status load_and_seed(const std::atomic<bool>& stop);
     void pump();
-    void describe(BodyId id);
-    void publish_assignment();
+    void take_samples(std::uint64_t up_to);
     void accept_commands();
     void refuse(const wire::Command& c, const std::string& reason);
-    void apply_to_registry(const wire::FrameGo& go);
     bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
     void collect_handoffs(std::uint64_t f);
+    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh);
     SectorAssignment balanced() const;
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
-    void reassign(std::uint64_t from_frame, const char* why);
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
     SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
+    void publish_assignment() { assignment_out->write(dds::to_wire(next, settings)); }
 };
 
 Coordinator::Coordinator(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -89,21 +104,21 @@ Coordinator::~Coordinator() {
     if (!state_) return;
     state_->go_out.reset();
     state_->assignment_out.reset();
-    state_->descriptions_out.reset();
+    state_->planes_out.reset();
     state_->results_out.reset();
+    state_->marks_out.reset();
+    state_->sectors_out.reset();
+    state_->status_out.reset();
     state_->marks_in.reset();
     state_->commands_in.reset();
+    state_->sectors_in.reset();
 }
 
 Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOptions& options) {
     if (options.workers < 1) return Error{"a cluster needs at least one worker"};
     if (options.block_size < 1) return Error{"block size must be at least 1"};
-    Expected<Scene> scene = load_scene(options.scene_path);
-    if (!scene) return Error{"scene refused:\n" + scene.error().message};
     auto state = std::make_unique<State>();
     state->options = options;
-    state->scene = std::move(scene).value();
-    state->grid = SectorGrid(state->scene.settings.sector_size);
     Expected<std::unique_ptr<dds::Participant>> participant =
         dds::Participant::create(options.domain, options.profile, "lpss-coordinator");
     if (!participant) return participant.error();
@@ -114,24 +129,46 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
                                                             writer_qos(kFrameDelivery));
     state->assignment_out = std::make_unique<Writer<wire::Assignment>>(
         p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), writer_qos(kStateDelivery));
-    state->descriptions_out = std::make_unique<Writer<wire::BodyDescription>>(
+    state->planes_out = std::make_unique<Writer<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), writer_qos(kStateDelivery));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
-    state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
-        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
+    fdds::Topic* marks = p.topic<wire::WorkerFramePubSubType>(kWorkerFrames);
+    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kFrameDelivery));
+    fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
+    state->sectors_out =
+        std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kSectorFrameDelivery));
+    state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
+        p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
+    state->marks_in =
+        std::make_unique<Reader<wire::WorkerFrame>>(p, marks, reader_qos(kFrameDelivery), &state->inbox);
     state->commands_in = std::make_unique<Reader<wire::Command>>(
         p, p.topic<wire::CommandPubSubType>(kCommands), reader_qos(kCommandDelivery), &state->inbox);
-    if (!state->go_out->ok() || !state->assignment_out->ok() || !state->descriptions_out->ok() ||
-        !state->results_out->ok() || !state->marks_in->ok() || !state->commands_in->ok()) {
+    state->sectors_in = std::make_unique<Reader<wire::SectorFrame>>(
+        p, sectors, reader_qos(kSectorFrameReading), &state->inbox);
+    if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
+        !state->results_out->ok() || !state->marks_out->ok() || !state->sectors_out->ok() ||
+        !state->status_out->ok() || !state->marks_in->ok() || !state->commands_in->ok() ||
+        !state->sectors_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
     }
+    state->status("loading", 0.0, 0);
     return std::unique_ptr<Coordinator>(new Coordinator(std::move(state)));
+}
+
+void Coordinator::State::status(const std::string& phase, double progress, std::uint64_t bodies) {
+    wire::ClusterStatus s;
+    s.coordinator(1);
+    s.phase(phase);
+    s.progress(progress);
+    s.bodies(bodies);
+    s.frame(frame);
+    status_out->write(s);
 }
 
 void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;
+        if (!info.valid_data || m.worker() == 0) return;
         last_heard[m.worker()] = Clock::now();
         if (m.loads_reported()) {
             for (auto it = block_loads.begin(); it != block_loads.end();)
@@ -141,14 +178,151 @@ void Coordinator::State::pump() {
         }
         marks[{m.worker(), m.frame()}] = m;
     });
+    sectors_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+        // Its own samples (worker 0) are in the mirror already.
+        if (!info.valid_data || f.worker() == 0) return;
+        if (chain.accept(f)) samples[f.frame()].push_back(f);
+    });
 }
 
-void Coordinator::State::describe(BodyId id) {
-    const BodyEntry& e = bodies.at(id);
-    descriptions_out->write(dds::describe(e.desc, e.state, e.owner));
+void Coordinator::State::take_samples(std::uint64_t up_to) {
+    std::vector<const wire::SectorFrame*> batch;
+    const auto end = samples.upper_bound(up_to);
+    for (auto it = samples.begin(); it != end; ++it) {
+        for (const wire::SectorFrame& f : it->second)
+            batch.push_back(&f);
+    }
+    mirror.apply(batch);
+    samples.erase(samples.begin(), end);
+    chain.forget_applied(up_to);
 }
 
-void Coordinator::State::publish_assignment() { assignment_out->write(dds::to_wire(next, scene.settings)); }
+Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
+    const auto load_start = Clock::now();
+    spdlog::info("coordinator: loading {}", options.scene_path);
+    Expected<Scene> loaded = load_scene(options.scene_path);
+    if (!loaded) return Error{"scene refused:\n" + loaded.error().message};
+    Scene scene = std::move(loaded).value();
+    settings = scene.settings;
+    grid = SectorGrid(settings.sector_size);
+    spdlog::info("coordinator: {} bodies read and checked in {:.2f} s", scene.bodies.size(),
+                 seconds_since(load_start));
+    status("loading", 1.0, scene.bodies.size());
+
+    // The workers announce themselves with frame 0.
+    const auto wait_start = Clock::now();
+    for (;;) {
+        pump();
+        std::vector<std::uint32_t> missing;
+        for (std::uint32_t w = 1; w <= options.workers; ++w) {
+            if (!marks.count({w, 0})) missing.push_back(w);
+        }
+        if (missing.empty()) break;
+        if (stop.load()) return Error{"stopped"};
+        if (Clock::now() - wait_start > options.worker_wait) {
+            std::string list;
+            for (std::uint32_t w : missing)
+                list += (list.empty() ? "" : ", ") + std::to_string(w);
+            return Error{"worker(s) " + list + " did not appear on domain " +
+                         std::to_string(participant->domain()) + " within " +
+                         std::to_string(options.worker_wait.count() / 1000) + " s"};
+        }
+        inbox.wait(std::chrono::milliseconds(50));
+    }
+    for (std::uint32_t w = 1; w <= options.workers; ++w)
+        live.insert(w);
+
+    // The first assignment: bodies per sector, balanced along the Morton curve.
+    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> by_sector;
+    std::vector<SectorPosition> at(scene.bodies.size());
+    for (std::uint32_t n = 0; n < scene.bodies.size(); ++n) {
+        const BodyDesc& b = scene.bodies[n];
+        if (const auto* g = std::get_if<Eigen::Vector3d>(&b.position)) {
+            at[n] = grid.from_global(*g).value();
+        } else {
+            at[n] = grid.canonical(std::get<SectorPosition>(b.position)).value();
+        }
+        statics.emplace(b.id, b.is_static());
+        if (is_plane(b.shape)) {
+            planes[b.id] = b;
+            BodySnapshot anchor;
+            anchor.id = b.id;
+            anchor.position = at[n];
+            anchor.orientation = b.orientation;
+            wire::BodyDescription d = dds::describe(b, anchor);
+            d.rank(n);
+            planes_out->write(d);
+        } else {
+            by_sector[at[n].sector].push_back(n);
+        }
+    }
+    std::vector<std::pair<SectorKey, double>> loads;
+    for (const auto& [key, members] : by_sector)
+        loads.push_back({key, static_cast<double>(members.size())});
+    current = SectorAssignment::balanced(loads, std::vector<std::uint32_t>(live.begin(), live.end()),
+                                         options.block_size);
+    current.epoch = 1;
+    current.from_frame = 1;
+    next = current;
+    publish_assignment();
+
+    // The world's first state, sector by sector, to the workers that hold each (writers filter for their
+    // readers' recipient filters), in the scene's order so that workers add bodies as lpss-sim does.
+    // Workers that are there have matched this writer; a later one gets these samples from its history.
+    const auto send_start = Clock::now();
+    std::vector<SectorKey> keys;
+    keys.reserve(by_sector.size());
+    for (const auto& [key, members] : by_sector)
+        keys.push_back(key);
+    std::sort(keys.begin(), keys.end());
+    wire::WorkerFrame seeded;
+    seeded.worker(0);
+    seeded.frame(0);
+    seeded.epoch(current.epoch);
+    std::size_t sent = 0;
+    for (const SectorKey& key : keys) {
+        wire::SectorFrame sample;
+        sample.sector(dds::to_wire(key));
+        sample.recipients(current.holders(key));
+        sample.frame(0);
+        sample.base(0);
+        sample.worker(0);
+        sample.epoch(current.epoch);
+        sample.complete(true);
+        for (std::uint32_t n : by_sector[key]) {
+            const BodyDesc& b = scene.bodies[n];
+            BodySnapshot s;
+            s.id = b.id;
+            s.position = at[n];
+            s.orientation = b.orientation.normalized();
+            s.linear_velocity = b.linear_velocity;
+            s.angular_velocity = b.angular_velocity;
+            s.awake = b.mass > 0.0 && !b.asleep;
+            sample.bodies().push_back(dds::to_wire(s));
+            sample.offsets().push_back(dds::to_wire(at[n].local));
+            sample.kinds().push_back(dds::kind_of(b));
+            sample.ranks().push_back(n);
+        }
+        sectors_out->write(sample);
+        mirror.apply({&sample});
+        seeded.written().push_back(sample.sector());
+        if (++sent % 256 == 0)
+            status("sending", static_cast<double>(sent) / static_cast<double>(keys.size()),
+                   scene.bodies.size());
+        if (stop.load()) return Error{"stopped"};
+    }
+    marks_out->write(seeded);
+    status("sending", 1.0, scene.bodies.size());
+    spdlog::info("coordinator: {} sectors sent to {} worker(s) in {:.2f} s", keys.size(), live.size(),
+                 seconds_since(send_start));
+    // The scene is in the workers' hands now: give its memory back.
+    scene = Scene{};
+    by_sector.clear();
+    at = {};
+    malloc_trim(0);
+    wrote_sectors = true;
+    return {};
+}
 
 void Coordinator::State::refuse(const wire::Command& c, const std::string& reason) {
     wire::CommandResult r;
@@ -164,31 +338,33 @@ void Coordinator::State::refuse(const wire::Command& c, const std::string& reaso
 void Coordinator::State::accept_commands() {
     commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
-        auto known = bodies.find(c.body());
+        auto known = statics.find(c.body());
         auto finite = [](const wire::Vec3d& v) {
             return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
         };
+        BodyDesc body;
         switch (c.kind()) {
             case wire::kCommandSpawn: {
-                BodyDesc body = dds::from_wire(c.spawn());
+                body = dds::from_wire(c.spawn());
                 if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-                if (Status st = validate_body(body, scene.settings); !st)
-                    return refuse(c, st.error().message);
-                if (bodies.count(body.id))
+                if (Status st = validate_body(body, settings); !st) return refuse(c, st.error().message);
+                if (statics.count(body.id))
                     return refuse(c, describe_body(body) + ": id is used by another body");
                 break;
             }
             case wire::kCommandRemove:
-                if (known == bodies.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
+                if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
                 break;
             case wire::kCommandImpulse:
             case wire::kCommandSetVelocity:
-                if (known == bodies.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
-                if (known->second.desc.is_static()) {
-                    return refuse(c, describe_body(known->second.desc) + ": is static and cannot be pushed");
+                if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
+                if (known->second) {
+                    return refuse(c,
+                                  "body id " + std::to_string(c.body()) + ": is static and cannot be pushed");
                 }
                 if (!finite(c.vector1()) || !finite(c.vector2())) {
-                    return refuse(c, describe_body(known->second.desc) + ": command vectors must be finite");
+                    return refuse(c,
+                                  "body id " + std::to_string(c.body()) + ": command vectors must be finite");
                 }
                 break;
             default:
@@ -198,47 +374,34 @@ void Coordinator::State::accept_commands() {
         command_order.push_back(next_order++);
         // Spawns and removals change the body set at once, so that later commands see them.
         if (c.kind() == wire::kCommandSpawn) {
-            BodyDesc body = dds::from_wire(c.spawn());
-            if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-            BodyEntry e;
-            e.desc = body;
-            e.state.id = body.id;
-            if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position)) {
-                e.state.position = grid.from_global(*g).value();
-            } else {
-                e.state.position = grid.canonical(std::get<SectorPosition>(body.position)).value();
+            statics.emplace(body.id, body.is_static());
+            if (is_plane(body.shape)) {
+                BodySnapshot anchor;
+                anchor.id = body.id;
+                anchor.position = std::holds_alternative<Eigen::Vector3d>(body.position)
+                                      ? grid.from_global(std::get<Eigen::Vector3d>(body.position)).value()
+                                      : grid.canonical(std::get<SectorPosition>(body.position)).value();
+                anchor.orientation = body.orientation.normalized();
+                wire::BodyDescription d = dds::describe(body, anchor);
+                d.rank(~std::uint64_t{0});
+                planes_out->write(d);
+                planes[body.id] = body;
             }
-            e.state.orientation = body.orientation.normalized();
-            e.state.linear_velocity = body.linear_velocity;
-            e.state.angular_velocity = body.angular_velocity;
-            e.owner = is_plane(body.shape) ? 0 : assignment_for(frame + 1).owner_of(e.state.position.sector);
-            bodies.emplace(body.id, e);
-            order.push_back(body.id);
-            describe(body.id);
         } else if (c.kind() == wire::kCommandRemove) {
-            descriptions_out->dispose(
-                dds::describe(known->second.desc, known->second.state, known->second.owner));
-            bodies.erase(known);
-            order.erase(std::find(order.begin(), order.end(), c.body()));
+            statics.erase(known);
+            if (auto plane = planes.find(c.body()); plane != planes.end()) {
+                wire::BodyDescription d;
+                d.id(c.body());
+                planes_out->dispose(d);
+                planes.erase(plane);
+            }
         }
     });
 }
 
-void Coordinator::State::apply_to_registry(const wire::FrameGo& go) {
-    for (const wire::Handoff& h : go.handoffs()) {
-        auto it = bodies.find(h.body());
-        if (it == bodies.end()) continue;
-        BodySnapshot s = dds::from_wire(h.state(), dds::from_wire(h.sector()));
-        s.position.local = dds::from_wire(h.precise_position());
-        it->second.state = s;
-        it->second.owner = h.to_worker();
-        describe(h.body());
-    }
-}
-
 bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop) {
     // Every live worker's end of frame f. A worker silent for too long is taken as gone: its sectors go to
-    // the others, who already hold its bodies as ghosts of their last published state.
+    // the others, restored from what it last published.
     for (;;) {
         pump();
         bool all = true;
@@ -249,7 +412,7 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (marks.count({w, f})) continue;
             // Silence counts from the frame's start (or the last word, if later); the first frame may take
-            // as long as the workers take to load the world.
+            // as long as the workers take to build the world.
             const auto since = std::max(last_heard[w], frame_started);
             if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout)) {
                 spdlog::error(
@@ -257,11 +420,55 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
                     f);
                 live.erase(w);
                 if (live.empty()) return false;
-                reassign(f + 1, "a worker is gone");
+                SectorAssignment fresh = balanced();
+                fresh.epoch = next.epoch + 1;
+                fresh.from_frame = f + 1;
+                restore(w, f, fresh);
+                reassign(std::move(fresh), f + 1, "a worker is gone");
             }
         }
         inbox.wait(std::chrono::milliseconds(5));
     }
+}
+
+void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh) {
+    // Everything received up to the frame the worker did not finish, and the bodies handed to it at that
+    // frame (its sectors' samples may never show them), go to the sectors' new holders as of frame f.
+    take_samples(f);
+    for (const wire::Handoff& h : in_flight) {
+        if (h.to_worker() == gone) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
+    }
+    std::vector<SectorKey> keys;
+    for (const auto& [key, bodies] : mirror.sectors()) {
+        if (current.owner_of(key) == gone) keys.push_back(key);
+    }
+    std::sort(keys.begin(), keys.end());
+    wire::WorkerFrame restored;
+    restored.worker(0);
+    restored.frame(f);
+    restored.epoch(fresh.epoch);
+    std::size_t bodies = 0;
+    for (const SectorKey& key : keys) {
+        wire::SectorFrame sample;
+        sample.sector(dds::to_wire(key));
+        sample.recipients(fresh.holders(key));
+        sample.frame(f);
+        sample.base(f);
+        sample.worker(0);
+        sample.epoch(fresh.epoch);
+        sample.complete(true);
+        for (const auto& [id, state] : mirror.sectors().at(key)) {
+            sample.bodies().push_back(state);
+            sample.kinds().push_back(*mirror.kind(id));
+        }
+        bodies += sample.bodies().size();
+        sectors_out->write(sample);
+        restored.written().push_back(sample.sector());
+    }
+    marks_out->write(restored);
+    wrote_sectors = true;
+    spdlog::info("coordinator: {} bodies in {} sectors of worker {} restored as it last published them",
+                 bodies, keys.size(), gone);
 }
 
 void Coordinator::State::collect_handoffs(std::uint64_t f) {
@@ -273,7 +480,7 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
         auto it = marks.find({w, f});
         if (it == marks.end()) continue;
         for (wire::Handoff h : it->second.leaving()) {
-            if (!bodies.count(h.body()) || !granted.insert(h.body()).second) continue;
+            if (!statics.count(h.body()) || !granted.insert(h.body()).second) continue;
             const std::uint32_t to = then.owner_of(dds::from_wire(h.sector()));
             if (to == h.from_worker()) continue;
             h.to_worker(to);
@@ -294,9 +501,8 @@ SectorAssignment Coordinator::State::balanced() const {
              static_cast<double>(reported.load)});
     }
     if (loads.empty()) {
-        for (const auto& [id, e] : bodies) {
-            if (!is_plane(e.desc.shape)) loads.push_back({e.state.position.sector, 1.0});
-        }
+        for (const auto& [key, bodies] : mirror.sectors())
+            loads.push_back({key, static_cast<double>(bodies.size())});
     }
     return SectorAssignment::balanced(loads, std::vector<std::uint32_t>(live.begin(), live.end()),
                                       options.block_size);
@@ -311,10 +517,6 @@ std::map<std::uint32_t, double> Coordinator::State::worker_loads(const SectorAss
     return per_worker;
 }
 
-void Coordinator::State::reassign(std::uint64_t from_frame, const char* why) {
-    reassign(balanced(), from_frame, why);
-}
-
 void Coordinator::State::reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why) {
     fresh.epoch = next.epoch + 1;
     fresh.from_frame = from_frame;
@@ -326,60 +528,11 @@ void Coordinator::State::reassign(SectorAssignment fresh, std::uint64_t from_fra
 int Coordinator::run(const std::atomic<bool>& stop) {
     State& s = *state_;
     const CoordinatorOptions& o = s.options;
-    spdlog::info("coordinator: scene {} with {} bodies, waiting for {} worker(s) on domain {}", o.scene_path,
-                 s.scene.bodies.size(), o.workers, s.participant->domain());
-    // The workers announce themselves with frame 0.
-    const auto wait_start = Clock::now();
-    for (;;) {
-        s.pump();
-        std::vector<std::uint32_t> missing;
-        for (std::uint32_t w = 1; w <= o.workers; ++w) {
-            if (!s.marks.count({w, 0})) missing.push_back(w);
-        }
-        if (missing.empty()) break;
+    if (Status st = s.load_and_seed(stop); !st) {
         if (stop.load()) return 0;
-        if (Clock::now() - wait_start > o.worker_wait) {
-            std::string list;
-            for (std::uint32_t w : missing)
-                list += (list.empty() ? "" : ", ") + std::to_string(w);
-            spdlog::error("coordinator: worker(s) {} did not appear on domain {} within {} s", list,
-                          s.participant->domain(), o.worker_wait.count() / 1000);
-            return 3;
-        }
-        s.inbox.wait(std::chrono::milliseconds(50));
+        spdlog::error("coordinator: {}", st.error().message);
+        return 3;
     }
-    for (std::uint32_t w = 1; w <= o.workers; ++w)
-        s.live.insert(w);
-
-    // The first assignment: bodies per sector, balanced along the Morton curve.
-    std::vector<std::pair<SectorKey, double>> loads;
-    for (const BodyDesc& b : s.scene.bodies) {
-        BodyEntry e;
-        e.desc = b;
-        e.state.id = b.id;
-        if (const auto* g = std::get_if<Eigen::Vector3d>(&b.position)) {
-            e.state.position = s.grid.from_global(*g).value();
-        } else {
-            e.state.position = s.grid.canonical(std::get<SectorPosition>(b.position)).value();
-        }
-        e.state.orientation = b.orientation;
-        e.state.linear_velocity = b.linear_velocity;
-        e.state.angular_velocity = b.angular_velocity;
-        if (!is_plane(b.shape)) loads.push_back({e.state.position.sector, 1.0});
-        s.bodies.emplace(b.id, e);
-        s.order.push_back(b.id);
-    }
-    std::vector<std::uint32_t> workers(s.live.begin(), s.live.end());
-    s.current = SectorAssignment::balanced(loads, workers, o.block_size);
-    s.current.epoch = 1;
-    s.current.from_frame = 1;
-    s.next = s.current;
-    for (BodyId id : s.order) {
-        BodyEntry& e = s.bodies.at(id);
-        e.owner = is_plane(e.desc.shape) ? 0 : s.current.owner_of(e.state.position.sector);
-        s.describe(id);
-    }
-    s.publish_assignment();
 
     const auto start = Clock::now();
     auto last_log = start;
@@ -392,8 +545,10 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.frame(f);
         if (s.next.from_frame <= f) s.current = s.next;
         go.epoch(s.current.epoch);
-        go.next(dds::to_wire(s.next, s.scene.settings));
-        go.bodies(static_cast<std::uint32_t>(s.order.size()));
+        go.next(dds::to_wire(s.next, s.settings));
+        go.planes(static_cast<std::uint32_t>(s.planes.size()));
+        go.ended(s.ended);
+        go.coordinator_wrote(s.wrote_sectors);
         go.stop(finished);
         go.handoffs(s.grants);
         go.commands(s.commands);
@@ -401,19 +556,22 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (o.realtime)
             std::this_thread::sleep_until(start +
                                           std::chrono::duration_cast<Clock::duration>(
-                                              std::chrono::duration<double>((f - 1) * s.scene.settings.dt)));
+                                              std::chrono::duration<double>((f - 1) * s.settings.dt)));
         s.go_out->write(go);
         s.frame_started = Clock::now();
+        if (f == 1 || f % 60 == 0) s.status("running", 0.0, s.statics.size());
         if (finished) {
             spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
+            s.status("stopped", 0.0, s.statics.size());
             // Give the workers a moment to read the stop before this participant goes.
             std::this_thread::sleep_for(std::chrono::milliseconds(300));
             return 0;
         }
-        s.apply_to_registry(go);
+        s.in_flight = s.grants;
         s.grants.clear();
         s.commands.clear();
         s.command_order.clear();
+        s.wrote_sectors = false;
         s.frame = f;
         if (!s.wait_for_frame(f, stop)) {
             if (s.live.empty()) {
@@ -422,6 +580,8 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             }
             continue;  // stopping: the next round sends the stop
         }
+        s.ended.assign(s.live.begin(), s.live.end());
+        s.take_samples(f - 1);
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
             s.next.epoch == s.current.epoch) {
@@ -438,8 +598,8 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             const double most = heaviest(now);
             const double mean = total / static_cast<double>(s.live.size());
             if (mean > 0.0 && most > o.rebalance_threshold * mean) {
-                // Moving sectors costs handoffs: only for a clear gain, else a load that shifts back and
-                // forth would move the same sectors back and forth.
+                // Moving sectors costs complete samples: only for a clear gain, else a load that shifts back
+                // and forth would move the same sectors back and forth.
                 SectorAssignment fresh = s.balanced();
                 const double after = heaviest(s.worker_loads(fresh));
                 if (after <= kRebalanceGain * most) {
@@ -459,8 +619,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (Clock::now() - last_log > std::chrono::seconds(5)) {
             last_log = Clock::now();
             spdlog::info("coordinator: frame {}, {:.1f} frames/s, {} handoffs so far", f,
-                         static_cast<double>(f) / std::chrono::duration<double>(Clock::now() - start).count(),
-                         s.handoffs);
+                         static_cast<double>(f) / seconds_since(start), s.handoffs);
         }
     }
 }

@@ -30,7 +30,7 @@ struct CoordinatorOptions {
 
 class Coordinator {
 public:
-    /// Loads and validates the scene and joins the domain; refused with the reason.
+    /// Joins the domain; refused with the reason. The scene is loaded by run(), which shows its progress.
     static Expected<std::unique_ptr<Coordinator>> create(const CoordinatorOptions& options);
     ~Coordinator();
     /// Runs the cluster until the frames are done or `stop` is set. Returns the process exit code.

@@ -74,16 +74,19 @@ TEST(SectorChain, ForgettingAppliedFramesKeepsTheNewestOfEachSector) {
 
 TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
     SectorMirror mirror;
-    mirror.apply(complete(10, {state_of(1, 1.0), state_of(2, 2.0), state_of(3, 3.0)}));
-    mirror.apply(partial(11, 10, {state_of(2, 2.5)}, {3}));
+    const wire::SectorFrame first = complete(10, {state_of(1, 1.0), state_of(2, 2.0), state_of(3, 3.0)});
+    const wire::SectorFrame second = partial(11, 10, {state_of(2, 2.5)}, {3});
+    mirror.apply({&first, &second});
     const SectorMirror::Bodies& bodies = mirror.sectors().at(kSector);
     ASSERT_EQ(bodies.size(), 2u);
     EXPECT_EQ(bodies.at(1).position().x(), 1.0f);  // unchanged, not resent
     EXPECT_EQ(bodies.at(2).position().x(), 2.5f);
-    mirror.apply(complete(12, {state_of(4, 4.0)}));  // whole: what is not in it is not in the sector
+    const wire::SectorFrame whole = complete(12, {state_of(4, 4.0)});
+    mirror.apply({&whole});  // whole: what is not in it is not in the sector
     EXPECT_EQ(mirror.sectors().at(kSector).size(), 1u);
     EXPECT_EQ(mirror.sectors().at(kSector).count(4), 1u);
-    mirror.apply(complete(13, {}));
+    const wire::SectorFrame empty = complete(13, {});
+    mirror.apply({&empty});
     EXPECT_TRUE(mirror.sectors().empty());
 }
 

@@ -104,7 +104,9 @@ TEST(Wire, BodyDescriptionsRoundTrip) {
     box.material = Material{0.3, 0.1};
     BodySnapshot at;
     at.position = SectorPosition{{1, 2, 3}, {4, 5, 6}};
-    BodyDesc back = from_wire(describe(box, at, 7));
+    box.asleep = true;
+    BodyDesc back = from_wire(describe(box, at));
+    EXPECT_TRUE(back.asleep);
     EXPECT_EQ(back.id, 42u);
     EXPECT_EQ(back.name, "crate");
     EXPECT_EQ(std::get<Box>(back.shape).half_extents, Eigen::Vector3d(1, 2, 3));

@@ -1,0 +1,49 @@
+#include "frame_gate.hpp"
+
+#include "lpss_dds/convert.hpp"
+
+namespace lpss::worker {
+
+void FrameGate::take_go(const wire::FrameGo& go) { gos_[go.frame()] = go; }
+
+void FrameGate::take_mark(const wire::WorkerFrame& mark) {
+    if (mark.worker() == self_ && self_ != 0) return;
+    std::vector<SectorKey>& written = marks_[{mark.worker(), mark.frame()}];
+    written.clear();
+    written.reserve(mark.written().size());
+    for (const wire::SectorKey& key : mark.written())
+        written.push_back(dds::from_wire(key));
+}
+
+const wire::FrameGo* FrameGate::go(std::uint64_t frame) const {
+    auto it = gos_.find(frame);
+    return it == gos_.end() ? nullptr : &it->second;
+}
+
+void FrameGate::started(std::uint64_t frame) { gos_.erase(gos_.begin(), gos_.upper_bound(frame)); }
+
+bool FrameGate::whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
+                      bool coordinator_wrote, const std::function<bool(const SectorKey&)>& holds,
+                      const dds::SectorChain& chain) const {
+    auto arrived = [&](std::uint32_t worker) {
+        auto it = marks_.find({worker, previous});
+        if (it == marks_.end()) return false;  // which sectors it wrote is not known yet
+        for (const SectorKey& key : it->second) {
+            if (holds(key) && chain.newest(key) < previous) return false;
+        }
+        return true;
+    };
+    if (coordinator_wrote && !arrived(0)) return false;
+    if (previous == 0) return true;  // workers write nothing before frame 1
+    for (std::uint32_t worker : workers) {
+        if (worker != self_ && !arrived(worker)) return false;
+    }
+    return true;
+}
+
+void FrameGate::forget_before(std::uint64_t frame) {
+    for (auto it = marks_.begin(); it != marks_.end();)
+        it = it->first.second < frame ? marks_.erase(it) : std::next(it);
+}
+
+}  // namespace lpss::worker

@@ -1,0 +1,48 @@
+// When a worker may start a frame: the coordinator has said so (FrameGo), and every other worker of the
+// assignment (and the coordinator, when it wrote sector samples itself) has ended the frame before, with
+// every sample it lists as written there that this worker holds already received. Samples of later
+// frames may be in too; the gate only says when the frame before is whole.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <vector>
+
+#include "lpss.h"
+#include "lpss/common/sector_key.hpp"
+#include "lpss_dds/sector_chain.hpp"
+
+namespace lpss::worker {
+
+class FrameGate {
+public:
+    explicit FrameGate(std::uint32_t self) : self_(self) {}
+
+    /// A FrameGo read from the coordinator (kept until its frame starts).
+    void take_go(const wire::FrameGo& go);
+    /// A WorkerFrame read from another worker or the coordinator (this worker's own are ignored).
+    void take_mark(const wire::WorkerFrame& mark);
+
+    /// The coordinator's word for `frame`, if it has come.
+    const wire::FrameGo* go(std::uint64_t frame) const;
+    /// Drops the words for frames up to `frame`, once that frame has started.
+    void started(std::uint64_t frame);
+
+    /// Whether the frame `previous` is whole here: for every worker in `workers` (and the coordinator, as
+    /// worker 0, if `coordinator_wrote`), its end of that frame has come, and `chain` holds each sector it
+    /// lists as written that `holds` says this worker holds, at that frame or later.
+    bool whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers, bool coordinator_wrote,
+               const std::function<bool(const SectorKey&)>& holds, const dds::SectorChain& chain) const;
+
+    /// Forgets marks of frames before `frame`.
+    void forget_before(std::uint64_t frame);
+
+private:
+    std::uint32_t self_;
+    std::map<std::uint64_t, wire::FrameGo> gos_;
+    /// (worker, frame) -> the sectors it wrote in that frame
+    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks_;
+};
+
+}  // namespace lpss::worker
