@@ -29,6 +29,7 @@ std::uint64_t read(const fdds::IContentFilter::SerializedPayload& payload, std::
 /// Filters know which they are: one factory makes both kinds.
 class SectorFilter : public fdds::IContentFilter {
 public:
+    virtual ~SectorFilter() = default;  // deleted through this type by the factory
     virtual bool recipient() const = 0;
 };
 
@@ -75,7 +76,7 @@ ReturnCode SectorFilterFactory::create_content_filter(const char* filter_class_n
     const bool recipient = std::strcmp(filter_class_name, kRecipientFilterClass) == 0;
     if (!recipient && std::strcmp(filter_class_name, kRegionFilterClass) != 0)
         return ReturnCode::RETCODE_BAD_PARAMETER;
-    if (parameters.length() != (recipient ? 1u : 6u)) return ReturnCode::RETCODE_BAD_PARAMETER;
+    if (parameters.length() != (recipient ? 1 : 6)) return ReturnCode::RETCODE_BAD_PARAMETER;
     // Fast DDS hands back the filter it made before when the parameters change.
     auto* existing = static_cast<SectorFilter*>(filter_instance);
     if (existing != nullptr && existing->recipient() != recipient) return ReturnCode::RETCODE_BAD_PARAMETER;
