@@ -158,8 +158,8 @@ void Client::State::take() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
         Mark mark;
-        for (const wire::SectorKey& k : m.written()) {
-            const SectorKey key = dds::from_wire(k);
+        for (const wire::WrittenSector& w : m.written()) {
+            const SectorKey key = dds::from_wire(w.sector());
             if (follows(key)) mark.written.push_back(key);
         }
         mark.planes = m.planes();

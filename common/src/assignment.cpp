@@ -35,27 +35,6 @@ std::uint32_t SectorAssignment::owner_of(const SectorKey& sector) const {
     return workers[n];
 }
 
-std::vector<std::uint32_t> SectorAssignment::holders(const SectorKey& sector) const {
-    // The 27 sectors lie in at most 8 blocks: ask once per block.
-    std::vector<SectorKey> blocks;
-    for (std::int64_t di = -1; di <= 1; ++di)
-        for (std::int64_t dj = -1; dj <= 1; ++dj)
-            for (std::int64_t dk = -1; dk <= 1; ++dk) {
-                const SectorKey next{sector.i + di, sector.j + dj, sector.k + dk};
-                if (!in_range(next)) continue;
-                const SectorKey block = block_of(next, block_size);
-                if (std::find(blocks.begin(), blocks.end(), block) == blocks.end()) blocks.push_back(block);
-            }
-    std::vector<std::uint32_t> out;
-    for (const SectorKey& block : blocks) {
-        const std::uint32_t owner =
-            owner_of({block.i * block_size, block.j * block_size, block.k * block_size});
-        if (owner != 0 && std::find(out.begin(), out.end(), owner) == out.end()) out.push_back(owner);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
 SectorAssignment SectorAssignment::balanced(const std::vector<std::pair<SectorKey, double>>& loads,
                                             const std::vector<std::uint32_t>& workers,
                                             std::int64_t block_size) {

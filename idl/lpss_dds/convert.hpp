@@ -36,8 +36,9 @@ wire::WorldSettings to_wire(const WorldSettings& settings);
 WorldSettings from_wire(const wire::WorldSettings& settings);
 wire::MortonCode to_wire(const MortonCode& code);
 MortonCode from_wire(const wire::MortonCode& code);
-/// The assignment with the world's settings it applies to.
-wire::Assignment to_wire(const SectorAssignment& assignment, const WorldSettings& settings);
+/// The assignment with the world's settings it applies to and the largest bounding radius of its bodies.
+wire::Assignment to_wire(const SectorAssignment& assignment, const WorldSettings& settings,
+                         double largest_radius);
 SectorAssignment from_wire(const wire::Assignment& assignment);
 
 }  // namespace lpss::dds

@@ -1,6 +1,6 @@
-// Content filters on sector frames, evaluated by the writer where Fast DDS can (so a sample a reader
-// does not want never travels to it) and by the reader otherwise. Both read the head of the serialized
-// sample only, so they need no type object (fragile in Fast DDS 2.9, see ../shared/notes/fastdds-2.9.md):
+// Content filters on sector frames, evaluated by each reader on the serialized sample before it is
+// deserialized (writers do not filter: see writer_qos). Both read the head of the serialized sample only,
+// so they need no type object (fragile in Fast DDS 2.9, see ../shared/notes/fastdds-2.9.md):
 // - a region: the sectors whose indices lie in [lo, hi] on each axis (clients that follow a region);
 // - a recipient: the samples whose `recipients` hold a worker's id (each worker reads the sectors it owns
 //   and those of its halo, which the writer names; the filter never changes, so no sample can slip past

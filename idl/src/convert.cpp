@@ -209,8 +209,9 @@ wire::MortonCode to_wire(const MortonCode& code) {
 
 MortonCode from_wire(const wire::MortonCode& code) { return {code.high(), code.middle(), code.low()}; }
 
-wire::Assignment to_wire(const SectorAssignment& a, const WorldSettings& settings) {
+wire::Assignment to_wire(const SectorAssignment& a, const WorldSettings& settings, double largest_radius) {
     wire::Assignment out;
+    out.largest_radius(largest_radius);
     out.coordinator(1);
     out.epoch(a.epoch);
     out.from_frame(a.from_frame);

@@ -166,11 +166,14 @@ Qos with_delivery(Qos q, const Delivery& d) {
 
 fdds::DataWriterQos writer_qos(const Delivery& d) {
     fdds::DataWriterQos q = with_delivery(fdds::DATAWRITER_QOS_DEFAULT, d);
-    // Writers filter for their readers (workers' recipient filters, clients' regions), so that a sample
-    // travels only to the readers that want it: Fast DDS does so for up to this many filtered readers
-    // (default 32), and only while the writer's liveliness lease is infinite (the default).
+    // Readers filter for themselves (workers' recipient filters, clients' regions), not the writers: Fast
+    // DDS 2.9 does not leave room for the filter's inline QoS when it cuts a large sample into fragments
+    // (RTPSWriter::calculateMaxDataSize: "inlineqos in future"), so a filtered sample over ~64 KB is never
+    // sent ("Cannot add RTPS submessage ... Buffer too small", seen with a sector of 450 bodies). Over
+    // shared memory a sample is written once for every reader anyway; a reader that does not want it reads
+    // its first few dozen bytes.
     q.writer_resource_limits().reader_filters_allocation =
-        eprosima::fastrtps::ResourceLimitedContainerConfig(0u, 1024u, 4u);
+        eprosima::fastrtps::ResourceLimitedContainerConfig(0u, 0u, 0u);
     return q;
 }
 

@@ -1,17 +1,19 @@
 // lpss-cluster: the main job. Starts a coordinator and N workers on this machine as child processes,
-// runs a scene, prints a live summary (frame rate, bodies, sectors per worker, handoffs), and on Ctrl-C
-// or at the end stops every child cleanly.
+// runs a scene, shows the coordinator's progress while a large world loads, prints a live summary (frame
+// rate, bodies, sectors, frame time and bytes received per worker, handoffs, memory), and on Ctrl-C or at
+// the end stops every child cleanly.
 #include <fmt/format.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <thread>
 
 #include "child_process.hpp"
-#include "lpss/common/scene.hpp"
+#include "lpss/common/process_memory.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/shm_cleanup.hpp"
@@ -33,8 +35,11 @@ std::filesystem::path own_directory() {
 struct WorkerSeen {
     std::uint64_t frame = 0;
     std::uint32_t bodies = 0, awake = 0, sectors = 0, ghosts = 0, clones = 0, degraded = 0;
-    float step_ms = 0, wait_ms = 0;
+    float step_ms = 0, wait_ms = 0, publish_ms = 0;
+    std::uint64_t received_bytes = 0;
 };
+
+double mib(std::uint64_t bytes) { return static_cast<double>(bytes) / 1048576.0; }
 
 }  // namespace
 
@@ -63,9 +68,10 @@ int main(int argc, char** argv) {
                    "frames between load checks (0: never move sectors)");
     CLI11_PARSE(app, argc, argv);
 
-    // Refuse a bad scene before starting anything.
-    if (auto scene = lpss::load_scene(scene_path); !scene) {
-        std::fprintf(stderr, "lpss-cluster: scene refused:\n%s\n", scene.error().message.c_str());
+    // The coordinator reads and checks the scene (reading it here too would double the start of a large
+    // world): a refusal comes from it, and is shown below.
+    if (access(scene_path.c_str(), R_OK) != 0) {
+        std::fprintf(stderr, "lpss-cluster: %s: cannot open scene file\n", scene_path.c_str());
         return 2;
     }
     if (!profile.empty() && access(profile.c_str(), R_OK) != 0) {
@@ -99,6 +105,9 @@ int main(int argc, char** argv) {
     auto marks = std::make_unique<lpss::dds::Reader<lpss::wire::WorkerFrame>>(
         **participant, (*participant)->topic<lpss::wire::WorkerFramePubSubType>(lpss::dds::kWorkerFrames),
         lpss::dds::reader_qos(lpss::dds::kFrameDelivery), &inbox);
+    auto status = std::make_unique<lpss::dds::Reader<lpss::wire::ClusterStatus>>(
+        **participant, (*participant)->topic<lpss::wire::ClusterStatusPubSubType>(lpss::dds::kStatus),
+        lpss::dds::reader_qos(lpss::dds::kStateDelivery), &inbox);
 
     std::vector<ChildProcess> children;
     for (std::uint32_t w = 1; w <= workers; ++w) {
@@ -126,19 +135,38 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     std::map<std::uint32_t, WorkerSeen> seen;
+    double first_frame_seconds = 0.0;
+    bool memory_seen = false;
+    std::string final_memory;
     std::uint64_t handoffs = 0, first_frame = 0, last_frame = 0;
     const auto start = Clock::now();
     auto last_print = start;
     auto first_time = start;
     std::uint64_t printed_frame = 0;
+    // Memory of every process, as the kernel counts it.
+    auto memory = [&]() {
+        std::string out =
+            fmt::format("coordinator {:.0f} MiB",
+                        mib(lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}).resident_bytes));
+        std::uint64_t total = lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}).resident_bytes;
+        for (std::size_t n = 0; n < children.size(); ++n) {
+            const std::uint64_t rss =
+                lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}).resident_bytes;
+            total += rss;
+            out += fmt::format(", worker {} {:.0f} MiB", n + 1, mib(rss));
+        }
+        return fmt::format("{:.0f} MiB ({})", mib(total), out);
+    };
     auto print = [&](bool final) {
         std::uint32_t bodies = 0, degraded = 0;
-        std::string per_worker, ghosts;
+        std::string per_worker, ghosts, work;
         for (const auto& [w, s] : seen) {
             bodies += s.bodies;
             degraded += s.degraded;
             per_worker += fmt::format(" {}:{}", w, s.sectors);
             ghosts += fmt::format(" {}:{}", w, s.ghosts);
+            work += fmt::format(" {}:{:.2f}ms/{:.1f}kB", w, s.step_ms + s.publish_ms,
+                                static_cast<double>(s.received_bytes) / 1e3);
         }
         const double elapsed = std::chrono::duration<double>(Clock::now() - last_print).count();
         const double rate =
@@ -147,9 +175,9 @@ int main(int argc, char** argv) {
                   : (last_frame - printed_frame) / std::max(1e-9, elapsed);
         fmt::print(
             "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  ghosts per worker{}  "
-            "handoffs "
-            "{}  degraded {}\n",
+            "handoffs {}  degraded {}\n",
             final ? "done: " : "", last_frame, rate, bodies, per_worker, ghosts, handoffs, degraded);
+        if (!final && !work.empty()) fmt::print("      step+publish and bytes received per worker{}\n", work);
         std::fflush(stdout);
         printed_frame = last_frame;
         last_print = Clock::now();
@@ -159,11 +187,12 @@ int main(int argc, char** argv) {
     while (true) {
         inbox.wait(std::chrono::milliseconds(100));
         marks->take_all([&](const lpss::wire::WorkerFrame& m, const lpss::dds::fdds::SampleInfo& info) {
-            if (!info.valid_data || m.frame() == 0) return;
+            if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;  // 0: the coordinator
             WorkerSeen& s = seen[m.worker()];
             if (m.frame() <= s.frame) return;
-            s = WorkerSeen{m.frame(),  m.bodies(),   m.awake(),   m.sector_count(), m.ghosts(),
-                           m.clones(), m.degraded(), m.step_ms(), m.wait_ms()};
+            s = WorkerSeen{m.frame(),   m.bodies(),     m.awake(),         m.sector_count(),
+                           m.ghosts(),  m.clones(),     m.degraded(),      m.step_ms(),
+                           m.wait_ms(), m.publish_ms(), m.received_bytes()};
             handoffs += m.leaving().size();
             if (first_frame == 0) {
                 first_frame = m.frame();
@@ -171,11 +200,32 @@ int main(int argc, char** argv) {
             }
             last_frame = std::max(last_frame, m.frame());
         });
-        if (!quiet && Clock::now() - last_print > std::chrono::seconds(1)) print(false);
+        status->take_all([&](const lpss::wire::ClusterStatus& st, const lpss::dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || quiet || last_frame > 0) return;
+            // Loading a large world takes a while: say what the coordinator is at.
+            if (st.phase() == "loading" && st.bodies() == 0) {
+                fmt::print("lpss-cluster: the coordinator is reading the scene\n");
+            } else if (st.phase() == "loading") {
+                fmt::print("lpss-cluster: {} bodies read\n", st.bodies());
+            } else if (st.phase() == "sending") {
+                fmt::print("lpss-cluster: sending the world to the workers: {:.0f}%\n",
+                           100.0 * st.progress());
+            }
+            std::fflush(stdout);
+        });
+        if (!quiet && Clock::now() - last_print > std::chrono::seconds(1) && last_frame > 0) {
+            print(false);
+            if (last_frame > 0) fmt::print("      memory {}\n", memory());
+        }
+        if (last_frame > 0 && !memory_seen) {
+            first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            memory_seen = true;
+        }
         if (!coordinator->running()) {
             exit_code = coordinator->exit_code().value_or(1);
             break;
         }
+        final_memory = memory();
         if (stop.load() && !stopping) {
             // Ctrl-C: the coordinator tells the workers to stop after the current frame.
             stopping = true;
@@ -185,20 +235,31 @@ int main(int argc, char** argv) {
             break;
         }
     }
-    // Workers end on the coordinator's stop; those that do not are stopped.
+    // Workers end on the coordinator's stop; those that do not are stopped (at once if the coordinator
+    // failed: no stop will come).
     for (ChildProcess& c : children) {
-        if (!c.wait(std::chrono::seconds(5))) c.stop();
+        if (!c.wait(exit_code == 0 ? std::chrono::seconds(5) : std::chrono::seconds(0))) c.stop();
         const int code = c.exit_code().value_or(0);
         if (code != 0 && exit_code == 0 && !stopping) exit_code = code;
     }
     marks.reset();
+    status.reset();
     participant->reset();
     // A worker that was killed leaves its shared memory behind; so does every participant's port files.
     const std::size_t cleaned = lpss::dds::remove_abandoned_shm(domain);
     if (cleaned > 0 && !quiet)
         fmt::print("lpss-cluster: removed {} abandoned file(s) from /dev/shm\n", cleaned);
     print(true);
+    fmt::print("first frame {:.2f} s after start; memory before the end: {}\n", first_frame_seconds,
+               final_memory);
     if (exit_code != 0) {
+        // The coordinator's last words say why (a refused scene, say).
+        std::ifstream log(log_dir + "/coordinator.log");
+        std::string line, last_error;
+        while (std::getline(log, line)) {
+            if (!last_error.empty() || line.find("[error]") != std::string::npos) last_error += line + "\n";
+        }
+        if (!last_error.empty()) fmt::print(stderr, "{}", last_error);
         fmt::print(stderr, "lpss-cluster: a process failed (exit {}); see the logs in {}\n", exit_code,
                    log_dir);
     }

@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "lpss/common/assignment.hpp"
+#include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
@@ -61,6 +62,7 @@ struct Coordinator::State {
 
     SectorAssignment current;
     SectorAssignment next;
+    double largest_radius = 0.0;  ///< of any body the world has held: how far bodies reach (border_reach)
     std::set<std::uint32_t> live;
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
@@ -95,7 +97,12 @@ struct Coordinator::State {
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
     SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
-    void publish_assignment() { assignment_out->write(dds::to_wire(next, settings)); }
+    void publish_assignment() { assignment_out->write(dds::to_wire(next, settings, largest_radius)); }
+    /// The workers a sector's samples go to under `assignment`: the owners of the neighbouring sectors its
+    /// bodies come near (as a worker decides for its own sectors).
+    std::vector<std::uint32_t> recipients(const SectorKey& key, const std::vector<wire::BodyState>& bodies,
+                                          const std::vector<double>& radii,
+                                          const SectorAssignment& assignment) const;
 };
 
 Coordinator::Coordinator(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -164,6 +171,29 @@ void Coordinator::State::status(const std::string& phase, double progress, std::
     s.bodies(bodies);
     s.frame(frame);
     status_out->write(s);
+}
+
+std::vector<std::uint32_t> Coordinator::State::recipients(const SectorKey& key,
+                                                          const std::vector<wire::BodyState>& bodies,
+                                                          const std::vector<double>& radii,
+                                                          const SectorAssignment& assignment) const {
+    std::vector<std::uint32_t> out;
+    for (std::size_t n = 0; n < bodies.size(); ++n) {
+        const wire::BodyState& b = bodies[n];
+        const Eigen::Vector3d local(b.position().x(), b.position().y(), b.position().z());
+        const Eigen::Vector3d v(b.linear_velocity().x(), b.linear_velocity().y(), b.linear_velocity().z());
+        const double reach = border_reach(settings, radii[n], largest_radius, v.norm());
+        neighbours_within(local, settings.sector_size, reach, [&](const SectorKey& d) {
+            const SectorKey neighbour = key + d;
+            if (!in_range(neighbour)) return;
+            const std::uint32_t owner = assignment.owner_of(neighbour);
+            if (owner != 0 && std::find(out.begin(), out.end(), owner) == out.end()) out.push_back(owner);
+        });
+    }
+    const std::uint32_t owner = assignment.owner_of(key);
+    if (std::find(out.begin(), out.end(), owner) == out.end()) out.push_back(owner);
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 void Coordinator::State::pump() {
@@ -243,6 +273,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
             at[n] = grid.canonical(std::get<SectorPosition>(b.position)).value();
         }
         statics.emplace(b.id, b.is_static());
+        if (!is_plane(b.shape)) largest_radius = std::max(largest_radius, bounding_radius(b.shape));
         if (is_plane(b.shape)) {
             planes[b.id] = b;
             BodySnapshot anchor;
@@ -280,10 +311,10 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     seeded.frame(0);
     seeded.epoch(current.epoch);
     std::size_t sent = 0;
+    std::vector<double> radii;
     for (const SectorKey& key : keys) {
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(key));
-        sample.recipients(current.holders(key));
         sample.frame(0);
         sample.base(0);
         sample.worker(0);
@@ -302,10 +333,16 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
             sample.offsets().push_back(dds::to_wire(at[n].local));
             sample.kinds().push_back(dds::kind_of(b));
             sample.ranks().push_back(n);
+            radii.push_back(bounding_radius(b.shape));
         }
+        sample.recipients(recipients(key, sample.bodies(), radii, current));
+        radii.clear();
         sectors_out->write(sample);
         mirror.apply({&sample});
-        seeded.written().push_back(sample.sector());
+        wire::WrittenSector entry;
+        entry.sector(sample.sector());
+        entry.recipients(sample.recipients());
+        seeded.written().push_back(std::move(entry));
         if (++sent % 256 == 0)
             status("sending", static_cast<double>(sent) / static_cast<double>(keys.size()),
                    scene.bodies.size());
@@ -375,6 +412,10 @@ void Coordinator::State::accept_commands() {
         // Spawns and removals change the body set at once, so that later commands see them.
         if (c.kind() == wire::kCommandSpawn) {
             statics.emplace(body.id, body.is_static());
+            if (!is_plane(body.shape) && bounding_radius(body.shape) > largest_radius) {
+                largest_radius = bounding_radius(body.shape);  // reaches farther: FrameGo says so
+                publish_assignment();
+            }
             if (is_plane(body.shape)) {
                 BodySnapshot anchor;
                 anchor.id = body.id;
@@ -451,19 +492,24 @@ void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const Sect
     for (const SectorKey& key : keys) {
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(key));
-        sample.recipients(fresh.holders(key));
         sample.frame(f);
         sample.base(f);
         sample.worker(0);
         sample.epoch(fresh.epoch);
         sample.complete(true);
+        std::vector<double> radii;
         for (const auto& [id, state] : mirror.sectors().at(key)) {
             sample.bodies().push_back(state);
             sample.kinds().push_back(*mirror.kind(id));
+            radii.push_back(bounding_radius(dds::from_wire(*mirror.kind(id)).shape));
         }
+        sample.recipients(recipients(key, sample.bodies(), radii, fresh));
         bodies += sample.bodies().size();
         sectors_out->write(sample);
-        restored.written().push_back(sample.sector());
+        wire::WrittenSector entry;
+        entry.sector(sample.sector());
+        entry.recipients(sample.recipients());
+        restored.written().push_back(std::move(entry));
     }
     marks_out->write(restored);
     wrote_sectors = true;
@@ -545,7 +591,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.frame(f);
         if (s.next.from_frame <= f) s.current = s.next;
         go.epoch(s.current.epoch);
-        go.next(dds::to_wire(s.next, s.settings));
+        go.next(dds::to_wire(s.next, s.settings, s.largest_radius));
         go.planes(static_cast<std::uint32_t>(s.planes.size()));
         go.ended(s.ended);
         go.coordinator_wrote(s.wrote_sectors);

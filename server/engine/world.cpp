@@ -222,7 +222,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     rec.dynamic = desc.mass > 0.0;
     rec.plane = is_plane(desc.shape);
     rec.shape = engine::make_collision_shape(desc.shape);
-    rec.bound_radius = bounding_radius(desc.shape);
+    rec.bound_radius = lpss::bounding_radius(desc.shape);
     slots.emplace(desc.id, slot);
 
     // Validated already: the position resolves.
@@ -666,6 +666,12 @@ std::optional<BodyDesc> World::description(BodyId id) const {
     Expected<std::uint32_t> slot = impl_->slot_of(id);
     if (!slot) return std::nullopt;
     return *impl_->record(slot.value()).desc;
+}
+
+double World::bounding_radius(BodyId id) const {
+    Expected<std::uint32_t> slot = impl_->slot_of(id);
+    if (!slot || impl_->record(slot.value()).plane) return 0.0;
+    return impl_->record(slot.value()).bound_radius;
 }
 
 const std::vector<ContactEvent>& World::contact_events() const { return impl_->events; }

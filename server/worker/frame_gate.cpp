@@ -1,5 +1,7 @@
 #include "frame_gate.hpp"
 
+#include <algorithm>
+
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::worker {
@@ -10,9 +12,10 @@ void FrameGate::take_mark(const wire::WorkerFrame& mark) {
     if (mark.worker() == self_ && self_ != 0) return;
     std::vector<SectorKey>& written = marks_[{mark.worker(), mark.frame()}];
     written.clear();
-    written.reserve(mark.written().size());
-    for (const wire::SectorKey& key : mark.written())
-        written.push_back(dds::from_wire(key));
+    for (const wire::WrittenSector& w : mark.written()) {
+        if (std::find(w.recipients().begin(), w.recipients().end(), self_) != w.recipients().end())
+            written.push_back(dds::from_wire(w.sector()));
+    }
 }
 
 const wire::FrameGo* FrameGate::go(std::uint64_t frame) const {
@@ -23,13 +26,12 @@ const wire::FrameGo* FrameGate::go(std::uint64_t frame) const {
 void FrameGate::started(std::uint64_t frame) { gos_.erase(gos_.begin(), gos_.upper_bound(frame)); }
 
 bool FrameGate::whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
-                      bool coordinator_wrote, const std::function<bool(const SectorKey&)>& holds,
-                      const dds::SectorChain& chain) const {
+                      bool coordinator_wrote, const dds::SectorChain& chain) const {
     auto arrived = [&](std::uint32_t worker) {
         auto it = marks_.find({worker, previous});
         if (it == marks_.end()) return false;  // which sectors it wrote is not known yet
         for (const SectorKey& key : it->second) {
-            if (holds(key) && chain.newest(key) < previous) return false;
+            if (chain.newest(key) < previous) return false;
         }
         return true;
     };

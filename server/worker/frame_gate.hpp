@@ -1,11 +1,10 @@
-// When a worker may start a frame: the coordinator has said so (FrameGo), and every other worker of the
-// assignment (and the coordinator, when it wrote sector samples itself) has ended the frame before, with
-// every sample it lists as written there that this worker holds already received. Samples of later
-// frames may be in too; the gate only says when the frame before is whole.
+// When a worker may start a frame: the coordinator has said so (FrameGo), and every worker that ended the
+// frame before (and the coordinator, when it wrote sector samples itself) has said so, with every sample
+// it lists as written there for this worker already received. Samples of later frames may be in too; the
+// gate only says when the frame before is whole.
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <vector>
 
@@ -31,9 +30,9 @@ public:
 
     /// Whether the frame `previous` is whole here: for every worker in `workers` (and the coordinator, as
     /// worker 0, if `coordinator_wrote`), its end of that frame has come, and `chain` holds each sector it
-    /// lists as written that `holds` says this worker holds, at that frame or later.
+    /// lists as written for this worker, at that frame or later.
     bool whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers, bool coordinator_wrote,
-               const std::function<bool(const SectorKey&)>& holds, const dds::SectorChain& chain) const;
+               const dds::SectorChain& chain) const;
 
     /// Forgets marks of frames before `frame`.
     void forget_before(std::uint64_t frame);
@@ -41,7 +40,7 @@ public:
 private:
     std::uint32_t self_;
     std::map<std::uint64_t, wire::FrameGo> gos_;
-    /// (worker, frame) -> the sectors it wrote in that frame
+    /// (worker, frame) -> the sectors it wrote for this worker in that frame
     std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks_;
 };
 

@@ -5,54 +5,68 @@
 #include <algorithm>
 #include <unordered_set>
 
+#include "lpss/common/border_reach.hpp"
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::worker {
 namespace {
 
 bool contains(const std::vector<std::uint32_t>& workers, std::uint32_t worker) {
-    return std::binary_search(workers.begin(), workers.end(), worker);
+    return std::find(workers.begin(), workers.end(), worker) != workers.end();
+}
+
+void add(std::vector<std::uint32_t>& workers, std::uint32_t worker) {
+    if (worker != 0 && !contains(workers, worker)) workers.push_back(worker);
 }
 
 }  // namespace
 
-void Halo::follow(const SectorAssignment& current, const SectorAssignment& next) {
-    if (current.epoch != current_.epoch) current_holders_.clear();
-    if (next.epoch != next_.epoch) next_holders_.clear();
+void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
     current_ = current;
     next_ = next;
+    largest_radius_ = largest_radius;
 }
 
-const std::vector<std::uint32_t>& Halo::holders(
-    const SectorAssignment& assignment, const SectorKey& key,
-    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash>& cache) {
-    auto it = cache.find(key);
-    if (it == cache.end()) it = cache.emplace(key, assignment.holders(key)).first;
-    return it->second;
-}
-
-bool Halo::holds(const SectorKey& key) {
-    if (contains(holders(current_, key, current_holders_), self_)) return true;
-    return next_.epoch != current_.epoch && contains(holders(next_, key, next_holders_), self_);
-}
-
-std::vector<std::uint32_t> Halo::recipients(const SectorKey& key, std::uint64_t frame) {
-    std::vector<std::uint32_t> out = holders(current_, key, current_holders_);
-    if (switching_after(frame)) {
-        for (std::uint32_t w : holders(next_, key, next_holders_)) {
-            if (!contains(out, w)) out.push_back(w);
-        }
-        std::sort(out.begin(), out.end());
+Halo::Addressing Halo::address(const World& world, const SectorKey& key,
+                               const std::vector<BodySnapshot>& bodies, std::uint64_t frame) {
+    const WorldSettings& settings = world.settings();
+    const bool switching = switching_after(frame);
+    Addressing out;
+    // The neighbours its bodies come near, and their owners now (and from the next frame on).
+    bool near[3][3][3] = {};
+    for (const BodySnapshot& b : bodies) {
+        const double reach =
+            border_reach(settings, world.bounding_radius(b.id), largest_radius_, b.linear_velocity.norm());
+        neighbours_within(b.position.local, settings.sector_size, reach,
+                          [&](const SectorKey& d) { near[d.i + 1][d.j + 1][d.k + 1] = true; });
     }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                if (!near[i][j][k]) continue;
+                const SectorKey neighbour{key.i + i - 1, key.j + j - 1, key.k + k - 1};
+                if (!in_range(neighbour)) continue;
+                add(out.recipients, current_.owner_of(neighbour));
+                if (switching) add(out.recipients, next_.owner_of(neighbour));
+            }
+    if (switching) add(out.recipients, next_.owner_of(key));
+    out.recipients.erase(std::remove(out.recipients.begin(), out.recipients.end(), self_),
+                         out.recipients.end());
+    std::sort(out.recipients.begin(), out.recipients.end());
+
+    std::vector<std::uint32_t>& before = addressed_[key];
+    for (std::uint32_t w : out.recipients)
+        out.gained = out.gained || !contains(before, w);
+    for (std::uint32_t w : before) {
+        if (!contains(out.recipients, w)) out.released.push_back(w);
+    }
+    // Released workers get this sample too, to learn that they hold the sector no more.
+    before = out.recipients;
+    for (std::uint32_t w : out.released)
+        add(out.recipients, w);
+    std::sort(out.recipients.begin(), out.recipients.end());
+    if (bodies.empty()) addressed_.erase(key);
     return out;
-}
-
-bool Halo::gains_holders(const SectorKey& key) {
-    const std::vector<std::uint32_t>& now = holders(current_, key, current_holders_);
-    for (std::uint32_t w : holders(next_, key, next_holders_)) {
-        if (!contains(now, w)) return true;
-    }
-    return false;
 }
 
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
@@ -69,17 +83,25 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
         arrivals.push_back({rank, body, BodySnapshot{}});
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = dds::from_wire(sample->sector());
-        if (!holds(key)) continue;  // addressed to this worker under an assignment no longer in force
-        if (sample->complete()) {
-            // A complete sample replaces the sector: the ghosts it no longer shows left it.
+        const bool released = std::find(sample->released().begin(), sample->released().end(), self_) !=
+                              sample->released().end();
+        if (released || sample->complete()) {
+            // Released: every ghost of the sector goes. Complete: the ghosts it no longer shows left it.
             std::vector<BodyId> shown;
-            for (const wire::BodyState& b : sample->bodies())
-                shown.push_back(b.id());
-            std::sort(shown.begin(), shown.end());
+            if (!released) {
+                for (const wire::BodyState& b : sample->bodies())
+                    shown.push_back(b.id());
+                std::sort(shown.begin(), shown.end());
+            }
             for (const BodySnapshot& b : world.sector_bodies(key)) {
                 if (!std::binary_search(shown.begin(), shown.end(), b.id)) left.push_back(b.id);
             }
         }
+        if (released) {
+            held_.erase(key);
+            continue;
+        }
+        if (!owns(key)) held_.insert(key);  // the world's first state holds this worker's own sectors too
         for (std::uint64_t id : sample->departed())
             left.push_back(id);
         const bool precise = sample->offsets().size() == sample->bodies().size();
@@ -124,14 +146,6 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
     }
     for (BodyId id : left) {
         if (!seen.count(id) && world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
-    }
-}
-
-void Halo::drop_unheld(World& world) {
-    for (const SectorKey& key : world.sectors()) {
-        if (owns(key) || holds(key)) continue;
-        for (const BodySnapshot& b : world.sector_bodies(key))
-            (void)world.remove_body(b.id);
     }
 }
 

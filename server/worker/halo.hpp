@@ -1,11 +1,12 @@
-// What a worker holds: its own sectors, and the sectors next to them (its halo), whose bodies it keeps as
-// ghosts in its engine so that they are cloned across its borders exactly as in one process. A sector is
-// held by its owner and by the owners of its 26 neighbours: the holders, whom its samples are addressed
-// to. While an assignment change is announced for the next frame, a worker holds what it holds under
-// either, so that the samples written at the switch reach the new holders.
+// What a worker holds besides its own sectors: the sectors of other workers whose samples are addressed to
+// it, whose bodies it keeps as ghosts in its engine so that they are cloned across its borders exactly as
+// in one process; and, for its own sectors, which workers it addresses them to: the owners of the
+// neighbouring sectors that some body comes near (common/border_reach.hpp). Whoever owns a body decides who
+// holds it, from where the body is now, so that an empty region of the grid costs its owner nothing.
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -19,42 +20,54 @@ class Halo {
 public:
     explicit Halo(std::uint32_t self) : self_(self) {}
 
-    /// The assignment in force and the one announced (the same one when none is announced).
-    void follow(const SectorAssignment& current, const SectorAssignment& next);
+    /// The assignment in force and the one announced (the same one when none is announced), and the
+    /// largest bounding radius of the world's bodies.
+    void follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius);
     const SectorAssignment& current() const { return current_; }
     const SectorAssignment& next() const { return next_; }
+    double largest_radius() const { return largest_radius_; }
     /// Whether `next` takes effect with the frame after `frame`.
     bool switching_after(std::uint64_t frame) const {
         return next_.epoch != current_.epoch && next_.from_frame == frame + 1;
     }
-
     bool owns(const SectorKey& key) const { return current_.owner_of(key) == self_; }
-    /// Own or halo, under the current assignment or the one announced.
-    bool holds(const SectorKey& key);
-    /// The workers a sample of `key` written at `frame` goes to: its holders now, and from the next frame.
-    std::vector<std::uint32_t> recipients(const SectorKey& key, std::uint64_t frame);
-    /// Whether the sector gains holders with the assignment announced (they need it whole).
-    bool gains_holders(const SectorKey& key);
+
+    /// Who one of its own sectors goes to now: the owners of the neighbouring sectors its bodies come
+    /// near (and, at the frame before an assignment change, those under the next one too, and the next
+    /// owner). `gained`: recipients it had not been sent to (they need it whole); `released`: those it no
+    /// longer goes to (this sample still reaches them, to say so).
+    struct Addressing {
+        std::vector<std::uint32_t> recipients;
+        std::vector<std::uint32_t> released;
+        bool gained = false;
+    };
+    Addressing address(const World& world, const SectorKey& key, const std::vector<BodySnapshot>& bodies,
+                       std::uint64_t frame);
+    /// Forgets a sector given away (its new owner addresses it from now on).
+    void forget(const SectorKey& key) { addressed_.erase(key); }
+    /// The workers a sector given away went to, which its new owner tells when they hold it no more.
+    void reached(const SectorKey& key, std::vector<std::uint32_t> workers) {
+        addressed_[key] = std::move(workers);
+    }
+
+    /// Whether a sector of another worker is held here (its samples are addressed to this worker).
+    bool holds(const SectorKey& key) const { return held_.count(key) != 0; }
 
     /// Applies other workers' samples (in frame order) to the engine's ghosts: states follow, bodies that
-    /// arrive are built from their kinds, and those that left what this worker holds are dropped. Its own
-    /// bodies are never touched. The coordinator's samples of the world's first state rank their bodies:
-    /// those are added in the scene's order, together with `also` (ranked bodies, the world's planes).
+    /// arrive are built from their kinds, and those that left what this worker holds are dropped (as are
+    /// sectors that release it). Its own bodies are never touched. The coordinator's samples of the world's
+    /// first state rank their bodies: those are added in the scene's order, together with `also` (ranked
+    /// bodies, the world's planes).
     void apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                const std::vector<std::pair<std::uint64_t, BodyDesc>>& also = {});
-    /// Drops the ghosts of sectors no longer held (after an assignment change).
-    void drop_unheld(World& world);
 
 private:
-    const std::vector<std::uint32_t>& holders(
-        const SectorAssignment& assignment, const SectorKey& key,
-        std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash>& cache);
-
     std::uint32_t self_;
     SectorAssignment current_;
     SectorAssignment next_;
-    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> current_holders_;
-    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> next_holders_;
+    double largest_radius_ = 0.0;
+    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> addressed_;  ///< own sectors
+    std::set<SectorKey> held_;  ///< other workers' sectors addressed here
 };
 
 }  // namespace lpss::worker

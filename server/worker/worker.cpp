@@ -84,6 +84,8 @@ struct Worker::State {
     /// finds what it needs in DDS's history and the marks, without having to ask (its requests may reach the
     /// workers much later than the workers' samples reach it: seen under load).
     bool reader_joined = false;
+    /// The largest body radius changed (a spawn): every sector's recipients are looked at again.
+    bool reach_changed = false;
     std::map<SectorKey, double> block_loads;  ///< bodies, awake ones counting double, per block owned
     std::uint64_t resident_bytes = 0;
 
@@ -92,11 +94,13 @@ struct Worker::State {
     bool start_world(const wire::FrameGo& go, const std::atomic<bool>& stop);
     void apply_samples(std::uint64_t up_to, const std::vector<std::pair<std::uint64_t, BodyDesc>>& also = {});
     void apply_go(const wire::FrameGo& go);
+    /// Takes note of the assignment the coordinator announces (it takes effect at its from_frame).
+    void announce(const wire::FrameGo& go);
     void apply_command(const wire::Command& command, std::uint64_t order);
     void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
     void count_load(const SectorKey& key, const dds::SectorPublisher::Counts& before);
-    std::vector<SectorKey> publish();
-    void mark(const std::vector<SectorKey>& written, double step_ms, double wait_ms, double publish_ms);
+    std::vector<wire::WrittenSector> publish();
+    void mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms, double publish_ms);
 };
 
 Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -199,7 +203,7 @@ void Worker::State::apply_samples(std::uint64_t up_to,
 
 bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>& stop) {
     const SectorAssignment current = dds::from_wire(go.next());
-    halo.follow(current, current);
+    halo.follow(current, current, go.next().largest_radius());
     const WorldSettings settings = dds::from_wire(go.next().settings());
     EngineOptions engine;
     engine.threads = options.threads;
@@ -213,9 +217,8 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
     world.emplace(std::move(created).value());
     // The world's first state: the coordinator's samples of the sectors this worker holds, and the planes.
     // Waits as long as the coordinator is there: a large world takes a while to send.
-    auto holds = [this](const SectorKey& key) { return halo.holds(key); };
     const auto started = Clock::now();
-    while (!stop.load() && (!gate.whole(0, {}, true, holds, chain) || early_planes.size() < go.planes())) {
+    while (!stop.load() && (!gate.whole(0, {}, true, chain) || early_planes.size() < go.planes())) {
         if (!coordinator_present()) {
             spdlog::error("worker {}: the coordinator went away while sending the world", options.id);
             return false;
@@ -265,7 +268,7 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
                 return w.grid().canonical(std::get<SectorPosition>(body.position));
             }();
             const bool mine = at && halo.owns(at->sector);
-            const bool held = is_plane(body.shape) || !at || halo.holds(at->sector);
+            const bool held = is_plane(body.shape) || !at || mine || halo.holds(at->sector);
             Status st = held ? w.add_body(body) : Status{};
             if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
             if (st.ok() && is_plane(body.shape)) planes.insert(body.id);
@@ -295,16 +298,25 @@ void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
     }
 }
 
+void Worker::State::announce(const wire::FrameGo& go) {
+    const SectorAssignment announced = dds::from_wire(go.next());
+    const double radius = go.next().largest_radius();
+    if (announced.epoch != halo.next().epoch || radius != halo.largest_radius()) {
+        if (radius != halo.largest_radius()) reach_changed = true;
+        halo.follow(halo.current(), announced, radius);
+    }
+}
+
 void Worker::State::apply_go(const wire::FrameGo& go) {
     // The assignment in force from this frame on.
-    SectorAssignment announced = dds::from_wire(go.next());
-    SectorAssignment current = halo.current();
-    if (announced.epoch != halo.next().epoch) halo.follow(current, announced);
+    announce(go);
+    const SectorAssignment current = halo.current();
     if (halo.next().epoch != current.epoch && halo.next().from_frame <= go.frame()) {
         const SectorAssignment switched = halo.next();
-        halo.follow(switched, switched);
+        halo.follow(switched, switched, halo.largest_radius());
         world->set_ownership([this](const SectorKey& key) { return halo.owns(key); });
-        // Sectors given away are their new owner's to publish, whole first; ghosts no longer held go.
+        // Sectors given away are their new owner's to publish, whole first; their ghosts stay here until
+        // the new owner says whether this worker still holds them.
         std::vector<SectorKey> given;
         publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
             if (!halo.owns(key)) given.push_back(key);
@@ -312,11 +324,16 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
         for (const SectorKey& key : given) {
             const dds::SectorPublisher::Counts before = publisher.counts(key);
             publisher.forget(key);
+            halo.forget(key);
             count_load(key, before);
         }
-        halo.drop_unheld(*world);
+        // Sectors taken over: whole in this frame, and the worker that had them learns whether it still
+        // holds them.
         for (const SectorKey& key : world->sectors()) {
-            if (halo.owns(key) && !publisher.publishes(key)) adopted.insert(key);
+            if (!halo.owns(key) || publisher.publishes(key)) continue;
+            adopted.insert(key);
+            const std::uint32_t before = current.owner_of(key);
+            if (before != 0 && before != options.id) halo.reached(key, {before});
         }
         spdlog::info("worker {}: assignment epoch {} from frame {}", options.id, switched.epoch, go.frame());
     }
@@ -338,7 +355,7 @@ void Worker::State::count_load(const SectorKey& key, const dds::SectorPublisher:
     if (load <= 0.0) block_loads.erase(block);
 }
 
-std::vector<SectorKey> Worker::State::publish() {
+std::vector<wire::WrittenSector> Worker::State::publish() {
     World& w = *world;
     // Where something happened, and what readers asked for whole; at the frame before an assignment
     // change, every sector that changes owner or gains holders, whole (its new holders build it from that
@@ -357,47 +374,52 @@ std::vector<SectorKey> Worker::State::publish() {
             for_joiners.insert(key);
         keys.insert(for_joiners.begin(), for_joiners.end());
     }
+    // At the frame before an assignment change, and when bodies may reach farther, every sector's
+    // recipients are looked at again (neighbours change owners); those that change owner go whole.
     std::set<SectorKey> handed;
-    if (halo.switching_after(frame)) {
+    if (halo.switching_after(frame) || reach_changed) {
         publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
-            if (halo.next().owner_of(key) != options.id || halo.gains_holders(key)) handed.insert(key);
+            keys.insert(key);
+            if (halo.switching_after(frame) && halo.next().owner_of(key) != options.id) handed.insert(key);
         });
-        keys.insert(handed.begin(), handed.end());
+        reach_changed = false;
     }
     auto describe = [&w](BodyId id) { return dds::kind_of(*w.description(id)); };
-    std::vector<SectorKey> written;
+    std::vector<wire::WrittenSector> written;
     for (const SectorKey& key : keys) {
         if (!halo.owns(key)) continue;  // a sector of ghosts
-        const bool whole =
-            whole_requested.count(key) || handed.count(key) || adopted.count(key) || for_joiners.count(key);
+        const std::vector<BodySnapshot> bodies = w.sector_bodies(key);
+        Halo::Addressing to = halo.address(w, key, bodies, frame);
+        // A worker that gains the sector builds its ghosts from a complete sample.
+        const bool whole = to.gained || whole_requested.count(key) || handed.count(key) ||
+                           adopted.count(key) || for_joiners.count(key);
         const dds::SectorPublisher::Counts before = publisher.counts(key);
-        std::optional<wire::SectorFrame> sample =
-            publisher.update(key, w.sector_bodies(key), frame, whole, describe);
+        std::optional<wire::SectorFrame> sample = publisher.update(key, bodies, frame, whole, describe);
         count_load(key, before);
         if (!sample) continue;
-        std::vector<std::uint32_t> recipients = halo.recipients(key, frame);
-        recipients.erase(std::remove(recipients.begin(), recipients.end(), options.id), recipients.end());
-        sample->recipients(std::move(recipients));
+        sample->recipients(to.recipients);
+        sample->released(std::move(to.released));
         sample->worker(options.id);
         sample->epoch(halo.current().epoch);
         frames_out->write(*sample);
-        written.push_back(key);
+        wire::WrittenSector entry;
+        entry.sector(sample->sector());
+        entry.recipients(std::move(to.recipients));
+        written.push_back(std::move(entry));
     }
     whole_requested.clear();
     adopted.clear();
     return written;
 }
 
-void Worker::State::mark(const std::vector<SectorKey>& written, double step_ms, double wait_ms,
+void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms,
                          double publish_ms) {
     World& w = *world;
     wire::WorkerFrame m;
     m.worker(options.id);
     m.frame(frame);
     m.epoch(halo.current().epoch);
-    m.written().reserve(written.size());
-    for (const SectorKey& key : written)
-        m.written().push_back(dds::to_wire(key));
+    m.written(std::move(written));
     // Inventories: what a reader that starts needs to know which sectors exist and how recent each is.
     for (const InventoryRequest& r : inventory_requests) {
         wire::SectorInventory inventory;
@@ -475,7 +497,6 @@ int Worker::run(const std::atomic<bool>& stop) {
 
     const auto started = Clock::now();
     bool coordinator_seen = false;
-    auto holds = [&s](const SectorKey& key) { return s.halo.holds(key); };
     while (!stop.load()) {
         s.pump();
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
@@ -507,13 +528,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         const auto wait_start = Clock::now();
         s.frame = go.frame();
         // The other workers' data of the previous frame, within a bounded wait.
-        // An assignment announced with this frame (the sectors of a worker that is gone) is held already:
-        // the coordinator's samples of those sectors are addressed to their new holders.
-        if (const SectorAssignment announced = dds::from_wire(go.next());
-            announced.epoch != s.halo.next().epoch)
-            s.halo.follow(s.halo.current(), announced);
-        while (!s.gate.whole(s.frame - 1, go.ended(), go.coordinator_wrote(), holds, s.chain) &&
-               !stop.load()) {
+        s.announce(go);
+        while (!s.gate.whole(s.frame - 1, go.ended(), go.coordinator_wrote(), s.chain) && !stop.load()) {
             if (Clock::now() - wait_start > s.options.border_wait) {
                 ++s.degraded;
                 spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded)", id,
@@ -530,9 +546,9 @@ int Worker::run(const std::atomic<bool>& stop) {
         s.world->step();
         const double step_ms = ms_since(step_start);
         const auto publish_start = Clock::now();
-        const std::vector<SectorKey> written = s.publish();
+        std::vector<wire::WrittenSector> written = s.publish();
         const double publish_ms = ms_since(publish_start);
-        s.mark(written, step_ms, wait_ms, publish_ms);
+        s.mark(std::move(written), step_ms, wait_ms, publish_ms);
         s.gate.forget_before(s.frame - 1);
     }
     spdlog::info("worker {}: stopping", id);

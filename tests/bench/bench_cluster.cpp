@@ -128,8 +128,8 @@ ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::u
             if (!info.valid_data || m.frame() == 0) return;
             Pending entry;
             entry.written = seconds_of(info.source_timestamp);
-            for (const auto& key : m.written())
-                entry.stamps.emplace_back(dds::from_wire(key), m.frame());
+            for (const auto& w : m.written())
+                entry.stamps.emplace_back(dds::from_wire(w.sector()), m.frame());
             pending[{m.worker(), m.frame()}] = std::move(entry);
             handoffs += m.leaving().size();
             const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();

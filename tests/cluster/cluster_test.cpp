@@ -176,8 +176,8 @@ public:
         marks_->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
             auto& written = marks_by_frame_[m.frame()][m.worker()];
-            for (const auto& key : m.written())
-                written.push_back(dds::from_wire(key));
+            for (const auto& w : m.written())
+                written.push_back(dds::from_wire(w.sector()));
         });
         // Frames in order, each once all workers marked it and every sample they list is here.
         for (;;) {
@@ -792,6 +792,13 @@ TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {
     std::tie(code, out) = run(std::string(LPSS_CLUSTER) + " /nonexistent.textproto --domain 126");
     EXPECT_EQ(code, 2);
     EXPECT_NE(out.find("cannot open scene file"), std::string::npos) << out;
+    // A scene the coordinator refuses: the reason names the body and the field, and nothing keeps running.
+    Scene bad = scenes::sphere_pair(Eigen::Vector3d::Zero().eval(), kL);
+    bad.bodies[1].position = Eigen::Vector3d(std::nan(""), 0, 0);
+    std::tie(code, out) =
+        run(std::string(LPSS_CLUSTER) + " " + write_scene(bad, "refused") + " --domain 126");
+    EXPECT_NE(code, 0);
+    EXPECT_NE(out.find("body 'right' (id 2): position.global is not finite"), std::string::npos) << out;
     std::tie(code, out) = run(std::string(LPSS_WORKER) + " --id 1 --domain 126 --profile /nonexistent.xml");
     EXPECT_EQ(code, 2);
     EXPECT_NE(out.find("cannot read the DDS profile /nonexistent.xml"), std::string::npos) << out;

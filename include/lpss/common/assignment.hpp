@@ -42,9 +42,6 @@ struct SectorAssignment {
 
     /// The worker simulating a sector (0 when the assignment is empty).
     std::uint32_t owner_of(const SectorKey& sector) const;
-    /// The workers that hold a sector: its owner, and the owners of its 26 neighbours, whose halo it is
-    /// in (their bodies can touch its bodies). Sorted, each once.
-    std::vector<std::uint32_t> holders(const SectorKey& sector) const;
 
     /// Cuts the Morton curve into one range per worker so that each holds about the same load; `loads`
     /// gives the load (bodies, step time) of the sectors that have any. Workers in the order given.

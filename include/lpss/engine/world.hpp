@@ -132,6 +132,9 @@ public:
     std::vector<BodySnapshot> snapshot() const;
     /// The description the body was created from, or nothing for an unknown id.
     std::optional<BodyDesc> description(BodyId id) const;
+    /// The radius of the sphere around its centre that holds the body in any orientation (0 for an
+    /// unknown id or a plane).
+    double bounding_radius(BodyId id) const;
     /// Whether a body is a ghost (in a sector this engine does not own).
     bool is_ghost(BodyId id) const;
     /// Owned bodies that have crossed into sectors this engine does not own, ordered by id. Costs what
