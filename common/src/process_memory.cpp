@@ -23,7 +23,7 @@ std::optional<MemoryUse> memory_use(pid_t pid) {
         }
     }
     std::fclose(file);
-    if (!found) return std::nullopt;
+    if (!found || use.resident_bytes == 0) return std::nullopt;  // gone, or a zombie not yet reaped
     return use;
 }
 

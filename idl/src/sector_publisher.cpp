@@ -1,5 +1,7 @@
 #include "lpss_dds/sector_publisher.hpp"
 
+#include <algorithm>
+
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::dds {
@@ -15,82 +17,123 @@ bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
            a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
 }
 
-}  // namespace
+bool awake(const wire::BodyState& state) { return (state.flags() & 1u) != 0; }
 
-void SectorPublisher::count(const Counts& counts, int sign) {
-    totals_.bodies += static_cast<std::uint32_t>(sign) * counts.bodies;
-    totals_.awake += static_cast<std::uint32_t>(sign) * counts.awake;
-}
-
-std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
-                                                         const std::vector<BodySnapshot>& bodies,
-                                                         std::uint64_t frame, bool whole,
-                                                         const Describe& describe) {
-    auto known = sectors_.find(key);
-    if (known == sectors_.end() && bodies.empty() && !whole)
-        return std::nullopt;  // nothing there, nothing sent
-    std::vector<wire::BodyState> now;
-    now.reserve(bodies.size());
-    Counts counts;
-    for (const BodySnapshot& b : bodies) {
-        now.push_back(to_wire(b));
-        counts.awake += b.awake ? 1u : 0u;
-    }
-    counts.bodies = static_cast<std::uint32_t>(now.size());
-
+wire::SectorFrame sample_of(const SectorKey& key, std::uint64_t frame, std::uint64_t base, bool complete) {
     wire::SectorFrame sample;
     sample.sector(to_wire(key));
     sample.frame(frame);
-    const bool complete = whole || known == sectors_.end() || bodies.empty();
-    if (complete) {
-        sample.complete(true);
-        sample.base(frame);
-        sample.bodies(now);
-        sample.kinds().reserve(bodies.size());
-        sample.offsets().reserve(bodies.size());
-        for (const BodySnapshot& b : bodies) {
-            sample.kinds().push_back(describe(b.id));
-            sample.offsets().push_back(to_wire(b.position.local));
-        }
-    } else {
-        // Both sides sorted by id: one merge finds what changed, arrived and left.
-        const std::vector<wire::BodyState>& before = known->second.states;
-        std::size_t i = 0, j = 0;
-        while (i < before.size() || j < now.size()) {
-            if (j == now.size() || (i < before.size() && before[i].id() < now[j].id())) {
-                sample.departed().push_back(before[i++].id());
-            } else if (i == before.size() || now[j].id() < before[i].id()) {
-                sample.bodies().push_back(now[j]);
-                sample.kinds().push_back(describe(now[j].id()));
-                ++j;
-            } else {
-                if (!same_state(before[i], now[j])) sample.bodies().push_back(now[j]);
-                ++i, ++j;
-            }
-        }
-        if (sample.bodies().empty() && sample.departed().empty()) return std::nullopt;
-        sample.complete(false);
-        sample.base(known->second.stamp);
-    }
-
-    if (known != sectors_.end()) count(known->second.counts, -1);
-    if (bodies.empty()) {
-        if (known != sectors_.end()) sectors_.erase(known);
-        return sample;
-    }
-    Sector& sector = sectors_[key];
-    sector.states = std::move(now);
-    sector.stamp = frame;
-    sector.complete = complete;
-    sector.counts = counts;
-    count(counts, +1);
+    sample.base(base);
+    sample.complete(complete);
     return sample;
+}
+
+}  // namespace
+
+void SectorPublisher::count(Sector& sector, const Body& body, int sign) {
+    const auto s = static_cast<std::uint32_t>(sign);
+    sector.counts.bodies += s;
+    totals_.bodies += s;
+    if (awake(body.state)) {
+        sector.counts.awake += s;
+        totals_.awake += s;
+    }
+    for (int bit = 0; bit < 27; ++bit) {
+        if (body.near & (1u << bit)) sector.near[static_cast<std::size_t>(bit)] += s;
+    }
+}
+
+wire::SectorFrame SectorPublisher::whole(const SectorKey& key, const std::vector<BodySnapshot>& bodies,
+                                         const std::vector<std::uint32_t>& near, std::uint64_t frame,
+                                         const Describe& describe) {
+    wire::SectorFrame sample = sample_of(key, frame, frame, true);
+    forget(key);
+    if (bodies.empty()) return sample;
+    Sector& sector = sectors_[key];
+    sector.bodies.reserve(bodies.size());
+    sample.bodies().reserve(bodies.size());
+    sample.kinds().reserve(bodies.size());
+    sample.offsets().reserve(bodies.size());
+    for (std::size_t n = 0; n < bodies.size(); ++n) {
+        Body body{to_wire(bodies[n]), near[n]};
+        sample.bodies().push_back(body.state);
+        sample.kinds().push_back(describe(bodies[n].id));
+        sample.offsets().push_back(to_wire(bodies[n].position.local));
+        count(sector, body, +1);
+        sector.bodies.push_back(std::move(body));
+    }
+    sector.stamp = frame;
+    sector.complete = true;
+    return sample;
+}
+
+std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
+                                                         const std::vector<BodySnapshot>& changed,
+                                                         const std::vector<std::uint32_t>& near,
+                                                         const std::vector<BodyId>& left, std::uint64_t frame,
+                                                         const Describe& describe) {
+    auto found = sectors_.find(key);
+    if (found == sectors_.end()) return std::nullopt;  // never published: the caller sends it whole
+    Sector& sector = found->second;
+    wire::SectorFrame sample = sample_of(key, frame, sector.stamp, false);
+    auto by_id = [](const Body& b, BodyId id) { return b.state.id() < id; };
+    for (std::size_t n = 0; n < changed.size(); ++n) {
+        Body now{to_wire(changed[n]), near[n]};
+        auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), changed[n].id, by_id);
+        if (at != sector.bodies.end() && at->state.id() == changed[n].id) {
+            if (!same_state(at->state, now.state)) sample.bodies().push_back(now.state);
+            count(sector, *at, -1);
+            count(sector, now, +1);
+            *at = std::move(now);
+        } else {
+            sample.bodies().push_back(now.state);
+            sample.kinds().push_back(describe(changed[n].id));
+            count(sector, now, +1);
+            sector.bodies.insert(at, std::move(now));
+        }
+    }
+    for (BodyId id : left) {
+        auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), id, by_id);
+        if (at == sector.bodies.end() || at->state.id() != id) continue;
+        sample.departed().push_back(id);
+        count(sector, *at, -1);
+        sector.bodies.erase(at);
+    }
+    if (sample.bodies().empty() && sample.departed().empty()) return std::nullopt;
+    sector.stamp = frame;
+    sector.complete = false;
+    if (sector.bodies.empty()) sectors_.erase(found);
+    return sample;
+}
+
+wire::SectorFrame SectorPublisher::nothing_new(const SectorKey& key, std::uint64_t frame) {
+    Sector& sector = sectors_.at(key);
+    wire::SectorFrame sample = sample_of(key, frame, sector.stamp, false);
+    sector.stamp = frame;
+    sector.complete = false;
+    return sample;
+}
+
+void SectorPublisher::set_near(const SectorKey& key, const std::vector<BodySnapshot>& bodies,
+                               const std::vector<std::uint32_t>& near) {
+    auto found = sectors_.find(key);
+    if (found == sectors_.end()) return;
+    Sector& sector = found->second;
+    for (std::size_t n = 0; n < bodies.size(); ++n) {
+        auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), bodies[n].id,
+                                   [](const Body& b, BodyId id) { return b.state.id() < id; });
+        if (at == sector.bodies.end() || at->state.id() != bodies[n].id) continue;
+        count(sector, *at, -1);
+        at->near = near[n];
+        count(sector, *at, +1);
+    }
 }
 
 void SectorPublisher::forget(const SectorKey& key) {
     auto it = sectors_.find(key);
     if (it == sectors_.end()) return;
-    count(it->second.counts, -1);
+    totals_.bodies -= it->second.counts.bodies;
+    totals_.awake -= it->second.counts.awake;
     sectors_.erase(it);
 }
 
@@ -110,6 +153,16 @@ std::uint64_t SectorPublisher::stamp(const SectorKey& key) const {
 SectorPublisher::Counts SectorPublisher::counts(const SectorKey& key) const {
     auto it = sectors_.find(key);
     return it == sectors_.end() ? Counts{} : it->second.counts;
+}
+
+std::uint32_t SectorPublisher::near(const SectorKey& key) const {
+    auto it = sectors_.find(key);
+    if (it == sectors_.end()) return 0;
+    std::uint32_t mask = 0;
+    for (int bit = 0; bit < 27; ++bit) {
+        if (it->second.near[static_cast<std::size_t>(bit)] > 0) mask |= 1u << bit;
+    }
+    return mask;
 }
 
 }  // namespace lpss::dds

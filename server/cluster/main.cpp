@@ -137,25 +137,31 @@ int main(int argc, char** argv) {
     std::map<std::uint32_t, WorkerSeen> seen;
     double first_frame_seconds = 0.0;
     bool memory_seen = false;
-    std::string final_memory;
+    std::string memory_at_frame;  ///< the latest memory line taken while frames ran
+    std::uint64_t memory_frame = 0;
+    auto memory_taken = Clock::now();
     std::uint64_t handoffs = 0, first_frame = 0, last_frame = 0;
     const auto start = Clock::now();
     auto last_print = start;
     auto first_time = start;
     std::uint64_t printed_frame = 0;
-    // Memory of every process, as the kernel counts it.
+    // Memory of every process, as the kernel counts it: resident now, and the most each has held.
     auto memory = [&]() {
-        std::string out =
-            fmt::format("coordinator {:.0f} MiB",
-                        mib(lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}).resident_bytes));
-        std::uint64_t total = lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}).resident_bytes;
-        for (std::size_t n = 0; n < children.size(); ++n) {
-            const std::uint64_t rss =
-                lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}).resident_bytes;
-            total += rss;
-            out += fmt::format(", worker {} {:.0f} MiB", n + 1, mib(rss));
+        std::vector<std::pair<std::string, lpss::MemoryUse>> all = {
+            {"coordinator", lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{})}};
+        for (std::size_t n = 0; n < children.size(); ++n)
+            all.emplace_back(fmt::format("worker {}", n + 1),
+                             lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}));
+        std::uint64_t total = 0, peak = 0;
+        std::string now, most;
+        for (const auto& [name, use] : all) {
+            total += use.resident_bytes;
+            peak += use.peak_bytes;
+            now += fmt::format("{}{} {:.0f}", now.empty() ? "" : ", ", name, mib(use.resident_bytes));
+            most += fmt::format("{}{:.0f}", most.empty() ? "" : ", ", mib(use.peak_bytes));
         }
-        return fmt::format("{:.0f} MiB ({})", mib(total), out);
+        return fmt::format("{:.0f} MiB resident ({} MiB), {:.0f} MiB at most ({} MiB)", mib(total), now,
+                           mib(peak), most);
     };
     auto print = [&](bool final) {
         std::uint32_t bodies = 0, degraded = 0;
@@ -213,9 +219,20 @@ int main(int argc, char** argv) {
             }
             std::fflush(stdout);
         });
+        if (last_frame > memory_frame && Clock::now() - memory_taken > std::chrono::milliseconds(200)) {
+            // Only while every process is there: at the end they go one by one.
+            bool all = lpss::memory_use(coordinator->pid()).has_value();
+            for (ChildProcess& c : children)
+                all = all && lpss::memory_use(c.pid()).has_value();
+            if (all) {
+                memory_at_frame = memory();
+                memory_frame = last_frame;
+                memory_taken = Clock::now();
+            }
+        }
         if (!quiet && Clock::now() - last_print > std::chrono::seconds(1) && last_frame > 0) {
             print(false);
-            if (last_frame > 0) fmt::print("      memory {}\n", memory());
+            fmt::print("      memory {}\n", memory_at_frame);
         }
         if (last_frame > 0 && !memory_seen) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -225,7 +242,6 @@ int main(int argc, char** argv) {
             exit_code = coordinator->exit_code().value_or(1);
             break;
         }
-        final_memory = memory();
         if (stop.load() && !stopping) {
             // Ctrl-C: the coordinator tells the workers to stop after the current frame.
             stopping = true;
@@ -250,8 +266,8 @@ int main(int argc, char** argv) {
     if (cleaned > 0 && !quiet)
         fmt::print("lpss-cluster: removed {} abandoned file(s) from /dev/shm\n", cleaned);
     print(true);
-    fmt::print("first frame {:.2f} s after start; memory before the end: {}\n", first_frame_seconds,
-               final_memory);
+    fmt::print("first frame {:.3f} s after start\n", first_frame_seconds);
+    fmt::print("memory at frame {}: {}\n", memory_frame, memory_at_frame);
     if (exit_code != 0) {
         // The coordinator's last words say why (a refused scene, say).
         std::ifstream log(log_dir + "/coordinator.log");

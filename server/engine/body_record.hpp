@@ -50,7 +50,8 @@ struct BodyRecord {
     Eigen::Vector3d local = Eigen::Vector3d::Zero();
     std::vector<std::uint32_t> partners;  ///< bodies of other sectors that may touch it (reach.cpp)
     std::uint64_t visit_frame = 0;
-    bool departing = false;  ///< listed in World::Impl::departing
+    bool departing = false;         ///< listed in World::Impl::departing
+    std::uint64_t moved_frame = 0;  ///< the frame the step found it active (recorded in the change log once)
 
     // Reach (see reach.cpp): this frame's tight reach; a fat box, in the owner's frame, that holds every
     // place the body may sweep until it is refreshed; and its leaves in the cell trees it enters.

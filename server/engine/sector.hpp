@@ -79,6 +79,7 @@ public:
     std::vector<std::uint32_t> hosted;          ///< slots of bodies with a clone or plane instance here
     std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
+    std::vector<BodyId> moved;  ///< originals active during the step, logged serially afterwards
 
     /// The most any original's fat reach box has extended beyond its broadphase box (reach.cpp): the
     /// growth of queries that look for this sector's bodies by fat box.

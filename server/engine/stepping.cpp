@@ -66,6 +66,18 @@ void World::Impl::step_sectors() {
     const btScalar dt = static_cast<btScalar>(substep);
     pool.run(step_set.size(), [&](std::size_t index, int worker) {
         Sector& sector = sectors.at(step_set[index]);  // the table is only read while threads run
+        // Bodies active before the step or after it may have moved: the change log's (a body woken by a
+        // contact is active after; one that fell asleep, before).
+        auto note_active = [&] {
+            for (std::uint32_t slot : sector.originals) {
+                BodyRecord& rec = bodies[slot];
+                if (rec.dynamic && rec.moved_frame != frame && rec.rb->isActive()) {
+                    rec.moved_frame = frame;
+                    sector.moved.push_back(rec.id);
+                }
+            }
+        };
+        note_active();
         for (int n = 0; n < substeps; ++n) {
             sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
             // Every dynamic original, not only the awake ones: a body that fell asleep during this step
@@ -75,6 +87,7 @@ void World::Impl::step_sectors() {
             }
         }
 
+        note_active();
         bool awake = false;
         for (std::uint32_t slot : sector.originals) {
             const BodyRecord& rec = bodies[slot];

@@ -319,7 +319,7 @@ Status World::remove_body(BodyId id) {
         sector.originals.pop_back();
         w.drop_pairs(slot);
         w.remove_leaves(slot);
-        w.changed_since_step.push_back(sector.key);
+        w.changes.left(sector.key, id);
         if (sector.originals.empty()) w.destroy_sector(sector);
     }
     w.dirty.erase(std::remove(w.dirty.begin(), w.dirty.end(), slot), w.dirty.end());
@@ -369,8 +369,8 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     rec.index_in_sector = static_cast<std::uint32_t>(dest.originals.size());
     dest.originals.push_back(slot);
     wake(dest);
-    changed_since_step.push_back(from.key);
-    changed_since_step.push_back(dest.key);
+    changes.left(from.key, rec.id);
+    changes.touched(dest.key, rec.id);
     if (from.originals.empty()) pending_destroy.push_back(from.id);
     // A jump of more than a sector (set_state, a very fast body) leaves clones no partner can need.
     for (std::size_t n = rec.clones.size(); n-- > 0;) {
@@ -525,7 +525,36 @@ std::vector<BodySnapshot> World::sector_bodies(const SectorKey& key) const {
     return out;
 }
 
-std::vector<SectorKey> World::changed_sectors() const { return impl_->changed_in_frame; }
+std::vector<SectorKey> World::changed_sectors() const { return impl_->changes.sectors(); }
+
+SectorChanges World::sector_changes(const SectorKey& key) const {
+    const Impl& w = *impl_;
+    SectorChanges out;
+    const engine::ChangeLog::Entry* entry = w.changes.find(key);
+    if (entry == nullptr) return out;
+    auto here = [&](BodyId id) -> const BodyRecord* {
+        Expected<std::uint32_t> slot = w.slot_of(id);
+        if (!slot) return nullptr;
+        const BodyRecord& rec = w.record(slot.value());
+        return !rec.plane && w.sector_of(rec).key == key ? &rec : nullptr;
+    };
+    std::vector<BodyId> ids = entry->touched;
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    for (BodyId id : ids) {
+        if (const BodyRecord* rec = here(id)) {
+            out.bodies.push_back(w.snapshot_of(*rec));
+            out.radii.push_back(rec->bound_radius);
+        }
+    }
+    out.left = entry->left;
+    std::sort(out.left.begin(), out.left.end());
+    out.left.erase(std::unique(out.left.begin(), out.left.end()), out.left.end());
+    out.left.erase(
+        std::remove_if(out.left.begin(), out.left.end(), [&](BodyId id) { return here(id) != nullptr; }),
+        out.left.end());
+    return out;
+}
 
 std::vector<SectorKey> World::stepped_sectors() const {
     std::vector<SectorKey> out;
@@ -563,7 +592,7 @@ void World::Impl::step() {
     for (std::uint32_t slot : dirty) {
         BodyRecord& rec = record(slot);
         if (!rec.alive) continue;
-        if (!rec.plane) changed_since_step.push_back(sector_of(rec).key);
+        if (!rec.plane) changes.touched(sector_of(rec).key, rec.id);
         if (rec.visit_frame != frame) {
             rec.visit_frame = frame;
             candidates.push_back(slot);
@@ -599,14 +628,14 @@ void World::Impl::step() {
     merge_contacts();
 
     // What this frame may have changed, for publishers: calls since the last step, sector changes, and
-    // every sector stepped.
-    changed_in_frame.swap(changed_since_step);
-    changed_since_step.clear();
-    for (engine::SectorId id : step_set)
-        changed_in_frame.push_back(sectors.at(id).key);
-    std::sort(changed_in_frame.begin(), changed_in_frame.end());
-    changed_in_frame.erase(std::unique(changed_in_frame.begin(), changed_in_frame.end()),
-                           changed_in_frame.end());
+    // the bodies the step found active.
+    for (engine::SectorId id : step_set) {
+        Sector& s = sectors.at(id);
+        for (BodyId moved : s.moved)
+            changes.touched(s.key, moved);
+        s.moved.clear();
+    }
+    changes.end_frame();
 
     stats.sectorize_seconds = std::chrono::duration<double>(sectorized - start).count();
     stats.clone_seconds = std::chrono::duration<double>(cloned - sectorized).count();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "body_record.hpp"
+#include "change_log.hpp"
 #include "lpss/engine/world.hpp"
 #include "sector.hpp"
 #include "sector_table.hpp"
@@ -114,9 +115,7 @@ struct World::Impl {
     std::vector<std::uint32_t> dirty;  ///< bodies changed by commands since the last step
     /// Owned bodies found past the border into a sector not owned (World::departures), until handed off.
     std::vector<std::uint32_t> departing;
-    /// Sectors whose bodies changed: since the last step (calls), and in the last frame (changed_sectors).
-    std::vector<SectorKey> changed_since_step;
-    std::vector<SectorKey> changed_in_frame;
+    engine::ChangeLog changes;  ///< what moved, arrived and left where: for publishers
     // Sectors by id, never by pointer: a sector may be destroyed while listed (a body removed by a command
     // empties it), and a stale id then resolves to nothing.
     std::vector<engine::SectorId> awake_list;       ///< sectors that may hold awake originals

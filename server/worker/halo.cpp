@@ -27,28 +27,33 @@ void Halo::follow(const SectorAssignment& current, const SectorAssignment& next,
     largest_radius_ = largest_radius;
 }
 
-Halo::Addressing Halo::address(const World& world, const SectorKey& key,
-                               const std::vector<BodySnapshot>& bodies, std::uint64_t frame) {
-    const WorldSettings& settings = world.settings();
+std::uint32_t Halo::near(const WorldSettings& settings, const BodySnapshot& body, double radius) const {
+    std::uint32_t mask = 0;
+    const double reach = border_reach(settings, radius, largest_radius_, body.linear_velocity.norm());
+    neighbours_within(body.position.local, settings.sector_size, reach, [&](const SectorKey& d) {
+        mask |= 1u << static_cast<unsigned>(9 * (d.i + 1) + 3 * (d.j + 1) + (d.k + 1));
+    });
+    return mask;
+}
+
+std::vector<std::uint32_t> Halo::near(const World& world, const std::vector<BodySnapshot>& bodies,
+                                      const std::vector<double>& radii) const {
+    std::vector<std::uint32_t> out(bodies.size());
+    for (std::size_t n = 0; n < bodies.size(); ++n)
+        out[n] = near(world.settings(), bodies[n], radii[n]);
+    return out;
+}
+
+Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, std::uint64_t frame) {
     const bool switching = switching_after(frame);
     Addressing out;
-    // The neighbours its bodies come near, and their owners now (and from the next frame on).
-    bool near[3][3][3] = {};
-    for (const BodySnapshot& b : bodies) {
-        const double reach =
-            border_reach(settings, world.bounding_radius(b.id), largest_radius_, b.linear_velocity.norm());
-        neighbours_within(b.position.local, settings.sector_size, reach,
-                          [&](const SectorKey& d) { near[d.i + 1][d.j + 1][d.k + 1] = true; });
+    for (int bit = 0; bit < 27; ++bit) {
+        if ((near & (1u << bit)) == 0) continue;
+        const SectorKey neighbour{key.i + bit / 9 - 1, key.j + bit / 3 % 3 - 1, key.k + bit % 3 - 1};
+        if (!in_range(neighbour)) continue;
+        add(out.recipients, current_.owner_of(neighbour));
+        if (switching) add(out.recipients, next_.owner_of(neighbour));
     }
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) {
-                if (!near[i][j][k]) continue;
-                const SectorKey neighbour{key.i + i - 1, key.j + j - 1, key.k + k - 1};
-                if (!in_range(neighbour)) continue;
-                add(out.recipients, current_.owner_of(neighbour));
-                if (switching) add(out.recipients, next_.owner_of(neighbour));
-            }
     if (switching) add(out.recipients, next_.owner_of(key));
     out.recipients.erase(std::remove(out.recipients.begin(), out.recipients.end(), self_),
                          out.recipients.end());
@@ -60,12 +65,12 @@ Halo::Addressing Halo::address(const World& world, const SectorKey& key,
     for (std::uint32_t w : before) {
         if (!contains(out.recipients, w)) out.released.push_back(w);
     }
-    // Released workers get this sample too, to learn that they hold the sector no more.
     before = out.recipients;
+    if (before.empty()) addressed_.erase(key);
+    // Released workers get this sample too, to learn that they hold the sector no more.
     for (std::uint32_t w : out.released)
         add(out.recipients, w);
     std::sort(out.recipients.begin(), out.recipients.end());
-    if (bodies.empty()) addressed_.erase(key);
     return out;
 }
 

@@ -32,17 +32,23 @@ public:
     }
     bool owns(const SectorKey& key) const { return current_.owner_of(key) == self_; }
 
-    /// Who one of its own sectors goes to now: the owners of the neighbouring sectors its bodies come
-    /// near (and, at the frame before an assignment change, those under the next one too, and the next
-    /// owner). `gained`: recipients it had not been sent to (they need it whole); `released`: those it no
-    /// longer goes to (this sample still reaches them, to say so).
+    /// The neighbouring sectors a body comes near, as a mask (bit 9(i+1) + 3(j+1) + (k+1) for the
+    /// neighbour at offset (i, j, k)): SectorPublisher keeps them with the body.
+    std::uint32_t near(const WorldSettings& settings, const BodySnapshot& body, double radius) const;
+    std::vector<std::uint32_t> near(const World& world, const std::vector<BodySnapshot>& bodies,
+                                    const std::vector<double>& radii) const;
+
+    /// Who one of its own sectors goes to now, given the neighbours its bodies come near: their owners
+    /// (and, at the frame before an assignment change, their owners under the next one too, and the next
+    /// owner of the sector). `gained`: recipients it had not been sent to (they need it whole);
+    /// `released`: those it no longer goes to (the sample still reaches them, to say so).
     struct Addressing {
         std::vector<std::uint32_t> recipients;
         std::vector<std::uint32_t> released;
         bool gained = false;
+        bool changed() const { return gained || !released.empty(); }
     };
-    Addressing address(const World& world, const SectorKey& key, const std::vector<BodySnapshot>& bodies,
-                       std::uint64_t frame);
+    Addressing address(const SectorKey& key, std::uint32_t near, std::uint64_t frame);
     /// Forgets a sector given away (its new owner addresses it from now on).
     void forget(const SectorKey& key) { addressed_.erase(key); }
     /// The workers a sector given away went to, which its new owner tells when they hold it no more.

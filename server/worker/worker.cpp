@@ -38,6 +38,15 @@ struct InventoryRequest {
     SectorKey lo, hi;
 };
 
+/// The bounding radii of bodies, in their order.
+std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>& bodies) {
+    std::vector<double> out;
+    out.reserve(bodies.size());
+    for (const BodySnapshot& b : bodies)
+        out.push_back(world.bounding_radius(b.id));
+    return out;
+}
+
 /// Load reports come every this many frames.
 constexpr std::uint64_t kLoadReportEvery = 60;
 
@@ -377,6 +386,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     // At the frame before an assignment change, and when bodies may reach farther, every sector's
     // recipients are looked at again (neighbours change owners); those that change owner go whole.
     std::set<SectorKey> handed;
+    const bool reach_changed_now = reach_changed;
     if (halo.switching_after(frame) || reach_changed) {
         publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
             keys.insert(key);
@@ -384,17 +394,41 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         });
         reach_changed = false;
     }
+    if (reach_changed_now) {
+        // Bodies reach farther: every body's near mask again (rare: a spawn of a larger body).
+        for (const SectorKey& key : keys) {
+            if (!publisher.publishes(key)) continue;
+            std::vector<BodySnapshot> all = w.sector_bodies(key);
+            publisher.set_near(key, all, halo.near(w, all, radii_of(w, all)));
+        }
+    }
     auto describe = [&w](BodyId id) { return dds::kind_of(*w.description(id)); };
     std::vector<wire::WrittenSector> written;
     for (const SectorKey& key : keys) {
         if (!halo.owns(key)) continue;  // a sector of ghosts
-        const std::vector<BodySnapshot> bodies = w.sector_bodies(key);
-        Halo::Addressing to = halo.address(w, key, bodies, frame);
-        // A worker that gains the sector builds its ghosts from a complete sample.
-        const bool whole = to.gained || whole_requested.count(key) || handed.count(key) ||
-                           adopted.count(key) || for_joiners.count(key);
+        // What changed; or everything, for a sector readers must get whole.
+        const bool asked = whole_requested.count(key) || handed.count(key) || adopted.count(key) ||
+                           for_joiners.count(key) || !publisher.publishes(key);
         const dds::SectorPublisher::Counts before = publisher.counts(key);
-        std::optional<wire::SectorFrame> sample = publisher.update(key, bodies, frame, whole, describe);
+        std::optional<wire::SectorFrame> sample;
+        auto send_whole = [&] {
+            const std::vector<BodySnapshot> all = w.sector_bodies(key);
+            if (all.empty() && !publisher.publishes(key) && !adopted.count(key))
+                return;  // nothing, never sent
+            sample = publisher.whole(key, all, halo.near(w, all, radii_of(w, all)), frame, describe);
+        };
+        if (asked) {
+            send_whole();
+        } else {
+            const SectorChanges changes = w.sector_changes(key);
+            sample = publisher.update(key, changes.bodies, halo.near(w, changes.bodies, changes.radii),
+                                      changes.left, frame, describe);
+        }
+        Halo::Addressing to = halo.address(key, publisher.near(key), frame);
+        // A worker that gains the sector builds its ghosts from a complete sample; one released learns it
+        // from whatever sample comes, an empty one if nothing changed.
+        if (to.gained && !(sample && sample->complete())) send_whole();
+        if (!sample && to.changed() && publisher.publishes(key)) sample = publisher.nothing_new(key, frame);
         count_load(key, before);
         if (!sample) continue;
         sample->recipients(to.recipients);

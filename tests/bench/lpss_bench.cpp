@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
         {"scaling", "frame time against body count and threads", run_scaling},
         {"stability", "the stability suite's numbers", run_stability},
         {"cluster", "lpss-cluster with 2 workers against one process", run_cluster},
+        {"cluster-scale",
+         "a world at rest from 10^4 to 10^6 bodies: lpss-cluster (1, 2, 4 workers) and lpss-sim",
+         run_cluster_scale},
     };
     std::vector<std::pair<CLI::App*, const Sub*>> commands;
     for (const Sub& sub : subs)

@@ -14,5 +14,6 @@ void run_stacks(const Context& context);
 void run_scaling(const Context& context);
 void run_stability(const Context& context);
 void run_cluster(const Context& context);
+void run_cluster_scale(const Context& context);
 
 }  // namespace lpss::bench

@@ -1,6 +1,7 @@
 #include "scenes.hpp"
 
 #include <cmath>
+#include <random>
 
 namespace lpss::scenes {
 
@@ -97,6 +98,68 @@ Scene box_stack(const Centre& base, int count, double sector_size) {
     for (int n = 0; n < count; ++n) {
         scene.bodies.push_back(box_body(static_cast<BodyId>(n + 1), Eigen::Vector3d::Constant(0.5), 1.0,
                                         shifted(base, Eigen::Vector3d(0, 0.5 + n, 0))));
+    }
+    return scene;
+}
+
+Scene resting_world(std::size_t resting, std::size_t moving, std::uint64_t seed) {
+    Scene scene;
+    scene.settings.sector_size = 64;
+    scene.settings.gravity = Eigen::Vector3d(0, -9.81, 0);
+    scene.settings.sleeping = true;
+    scene.bodies.reserve(resting + moving + 1);
+    scene.bodies.push_back(ground_plane(1, Eigen::Vector3d::Zero().eval()));
+    const double spacing = 3.0;
+    BodyId id = 2;
+    const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(resting))));
+    // A square pyramid whose centre of mass is its origin: base 1 x 1 at y = -0.2, apex at y = 0.6.
+    ConvexHull pyramid;
+    for (double x : {-0.5, 0.5})
+        for (double z : {-0.5, 0.5})
+            pyramid.points.push_back(Eigen::Vector3d(x, -0.2, z));
+    pyramid.points.push_back(Eigen::Vector3d(0, 0.6, 0));
+    for (std::size_t n = 0; n < resting; ++n) {
+        const double x = (static_cast<double>(n % side) - static_cast<double>(side) / 2) * spacing;
+        const double z = (static_cast<double>(n / side) - static_cast<double>(side) / 2) * spacing;
+        BodyDesc b;
+        b.id = id++;
+        b.mass = 1.0;
+        b.asleep = true;
+        double rest = 0.5;  // centre height at rest on the plane
+        switch (n % 5) {
+            case 0:
+                b.shape = Box{Eigen::Vector3d::Constant(0.5)};
+                break;
+            case 1:
+                b.shape = Sphere{0.5};
+                break;
+            case 2:
+                b.shape = Capsule{0.4, 0.6};
+                rest = 0.7;
+                break;
+            case 3:
+                b.shape = pyramid;
+                rest = 0.2;
+                break;
+            default:
+                b.shape = Box{Eigen::Vector3d(0.8, 0.3, 0.4)};
+                rest = 0.3;
+                break;
+        }
+        b.position = Eigen::Vector3d(x, rest, z);
+        scene.bodies.push_back(std::move(b));
+    }
+    // The balls: over a patch of about 100 x 100 units in the middle, between the resting bodies.
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> speed(-3.0, 3.0);
+    const auto across = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(moving))));
+    for (std::size_t n = 0; n < moving; ++n) {
+        const double x = (static_cast<double>(n % across) - static_cast<double>(across) / 2) * spacing + 1.5;
+        const double z = (static_cast<double>(n / across) - static_cast<double>(across) / 2) * spacing + 1.5;
+        BodyDesc ball = sphere_body(id++, 0.4, 1.0, Eigen::Vector3d(x, 2.0, z));
+        ball.linear_velocity = Eigen::Vector3d(speed(random), 0.0, speed(random));
+        ball.material = Material{0.3, 0.5};
+        scene.bodies.push_back(std::move(ball));
     }
     return scene;
 }

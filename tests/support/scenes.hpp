@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 
 #include "lpss/common/body_snapshot.hpp"
 #include "lpss/common/scene.hpp"
@@ -34,6 +36,13 @@ Scene sphere_octet(const Centre& centre, double sector_size);
 /// The paper's Figure 8: `count` unit boxes stacked on a ground plane through `base` (normal +y), with
 /// gravity -9.81 y. The plane has id 1000, the boxes ids 1..count from the bottom.
 Scene box_stack(const Centre& base, int count, double sector_size);
+
+/// A large world mostly at rest, for the cluster's scale benchmark: `resting` bodies of mixed shapes
+/// (boxes, spheres, capsules, convex hulls, flat boxes) 3 units apart in a square grid on a ground plane
+/// (id 1), starting asleep, over sectors of 64; and `moving` balls thrown across the middle of the grid,
+/// above it, waking and pushing what they hit. The middle is the same at every size: the activity does not
+/// grow with the world. Ids: the resting bodies from 2, then the balls.
+Scene resting_world(std::size_t resting, std::size_t moving, std::uint64_t seed = 7);
 
 /// Position of a body relative to a centre, computed exactly from sector keys.
 Eigen::Vector3d relative_position(const SectorGrid& grid, const BodySnapshot& body, const Centre& centre);

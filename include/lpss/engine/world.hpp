@@ -66,6 +66,13 @@ struct ContactEvent {
     double impulse = 0.0;                              ///< Begin: total normal impulse of the first step
 };
 
+/// What changed in one sector in the last frame (World::sector_changes), each list ordered by id.
+struct SectorChanges {
+    std::vector<BodySnapshot> bodies;  ///< bodies that may have moved or arrived, in their state now
+    std::vector<double> radii;         ///< their bounding radii (World::bounding_radius)
+    std::vector<BodyId> left;          ///< bodies that left it (moved out, handed off, removed)
+};
+
 /// What the last frame did and what each stage cost.
 struct FrameStats {
     std::uint64_t frame = 0;
@@ -148,6 +155,8 @@ public:
     /// frame or by calls made before it, in key order; sectors that no longer exist included. Every other
     /// sector holds exactly what it held after the frame before: a publisher needs to look nowhere else.
     std::vector<SectorKey> changed_sectors() const;
+    /// What changed in one of those sectors: costs what changed, not what the sector holds.
+    SectorChanges sector_changes(const SectorKey& key) const;
 
     /// Contacts that began or ended during the last step, ordered by kind and ids.
     const std::vector<ContactEvent>& contact_events() const;

@@ -1,0 +1,302 @@
+// cluster-scale: a large world mostly at rest (scenes::resting_world: N resting bodies of mixed shapes,
+// starting asleep, and 1,000 balls thrown across its middle) in lpss-sim and on lpss-cluster with 1, 2
+// and 4 workers on this machine, in one run: the time from start to the first frame, milliseconds per
+// frame (mean and 99th percentile over the frames after the first), the memory of every process, the
+// bytes each worker receives per frame and the share of the world each worker holds. The activity is the
+// same at every N: what grows is the resting world, which should cost nothing per frame.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "scenes.hpp"
+#include "subcommands.hpp"
+
+#if LPSS_BENCH_DRIVER
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+
+#include "child_process.hpp"
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
+#include "lpss_dds/topics.hpp"
+#endif
+
+namespace lpss::bench {
+
+#if LPSS_BENCH_DRIVER
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string read_text(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// The first number the pattern's group 1 matches in `text`, or NaN.
+double find_number(const std::string& text, const std::string& pattern) {
+    std::smatch m;
+    if (!std::regex_search(text, m, std::regex(pattern))) return std::nan("");
+    return std::stod(m[1].str());
+}
+
+double mean(const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v)
+        sum += x;
+    return v.empty() ? std::nan("") : sum / static_cast<double>(v.size());
+}
+
+double p99(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, v.size() * 99 / 100)];
+}
+
+struct SimRun {
+    double load_s = 0, first_frame_ms = 0, mean_ms = 0, p99_ms = 0, rss_mib = 0, peak_mib = 0;
+};
+
+SimRun run_sim(const std::filesystem::path& scene, std::uint64_t frames, const std::filesystem::path& logs) {
+    const std::filesystem::path sim = std::filesystem::path(LPSS_CLUSTER_PROGRAM).parent_path() / "lpss-sim";
+    const std::filesystem::path out = logs / "lpss-sim.out";
+    auto child = runtime::ChildProcess::start(
+        sim.string(), {scene.string(), "--frames", std::to_string(frames)}, out.string());
+    if (!child || !child->wait(std::chrono::hours(1)) || child->exit_code().value_or(1) != 0)
+        throw std::runtime_error("lpss-sim failed: see " + out.string());
+    const std::string text = read_text(out);
+    SimRun r;
+    r.load_s = find_number(text, R"(load\s+([0-9.]+) s)");
+    r.first_frame_ms = find_number(text, R"(first frame ([0-9.]+) ms)");
+    r.mean_ms = find_number(text, R"(mean ([0-9.]+) ms)");
+    r.p99_ms = find_number(text, R"(mean [0-9.]+ ms, p99 ([0-9.]+) ms)");
+    r.rss_mib = find_number(text, R"(memory\s+([0-9.]+) MiB resident)");
+    r.peak_mib = find_number(text, R"(resident at the end, ([0-9.]+) MiB at most)");
+    return r;
+}
+
+struct ClusterRun {
+    double first_frame_s = 0, mean_ms = 0, p99_ms = 0, rss_mib = 0, peak_mib = 0;
+    double bytes_max = 0, bytes_mean = 0;        ///< per worker per frame (max over workers, mean over them)
+    double held_share = 0;                       ///< bodies and ghosts of the busiest worker, over all bodies
+    double step_max_ms = 0, publish_max_ms = 0;  ///< per frame, mean over frames, the busiest worker
+    std::string memory;                          ///< lpss-cluster's memory line
+};
+
+ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, int workers,
+                       std::uint64_t frames, int domain, const std::filesystem::path& logs) {
+    auto participant = dds::Participant::create(domain, "", "lpss-bench");
+    if (!participant) throw std::runtime_error(participant.error().message);
+    dds::Participant& p = **participant;
+    dds::Inbox inbox;
+    auto marks_in = std::make_unique<dds::Reader<wire::WorkerFrame>>(
+        p, p.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(dds::kFrameDelivery),
+        &inbox);
+    const auto launched = Clock::now();
+    auto cluster = runtime::ChildProcess::start(
+        LPSS_CLUSTER_PROGRAM,
+        {scene.string(), "--workers", std::to_string(workers), "--frames", std::to_string(frames), "--domain",
+         std::to_string(domain), "--quiet", "--log-dir", (logs / "cluster-logs").string()},
+        (logs / "cluster.out").string());
+    if (!cluster) throw std::runtime_error("cannot start lpss-cluster");
+
+    // Per frame: the marks of the workers that ended it, and when the last of them arrived here.
+    std::map<std::uint64_t, std::map<std::uint32_t, wire::WorkerFrame>> marks;
+    std::map<std::uint64_t, double> ended;  // seconds since launch
+    while (cluster->running()) {
+        inbox.wait(std::chrono::milliseconds(5));
+        marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
+            auto& frame = marks[m.frame()];
+            frame[m.worker()] = m;
+            if (frame.size() == static_cast<std::size_t>(workers))
+                ended[m.frame()] = std::chrono::duration<double>(Clock::now() - launched).count();
+        });
+    }
+    marks_in.reset();
+    participant->reset();
+    dds::remove_abandoned_shm(domain);  // the port files our participant leaves
+    if (cluster->exit_code().value_or(1) != 0)
+        throw std::runtime_error("lpss-cluster failed: see " + logs.string());
+    if (!ended.count(1) || ended.size() < frames / 2)
+        throw std::runtime_error(
+            fmt::format("lpss-cluster: only {} frames seen whole: see {}", ended.size(), logs.string()));
+    ClusterRun r;
+    r.first_frame_s = ended.at(1);
+    std::vector<double> intervals;
+    for (auto it = std::next(ended.begin()); it != ended.end(); ++it) {
+        auto before = ended.find(it->first - 1);
+        if (before != ended.end()) intervals.push_back(1e3 * (it->second - before->second));
+    }
+    r.mean_ms = mean(intervals);
+    r.p99_ms = p99(intervals);
+    std::map<std::uint32_t, std::vector<double>> bytes, steps, publishes;
+    for (const auto& [f, frame] : marks) {
+        if (f < 2) continue;
+        for (const auto& [w, m] : frame) {
+            bytes[w].push_back(static_cast<double>(m.received_bytes()));
+            steps[w].push_back(m.step_ms());
+            publishes[w].push_back(m.publish_ms());
+        }
+    }
+    double sum = 0;
+    for (const auto& [w, b] : bytes) {
+        r.bytes_max = std::max(r.bytes_max, mean(b));
+        sum += mean(b);
+        r.step_max_ms = std::max(r.step_max_ms, mean(steps[w]));
+        r.publish_max_ms = std::max(r.publish_max_ms, mean(publishes[w]));
+    }
+    r.bytes_mean = bytes.empty() ? 0 : sum / static_cast<double>(bytes.size());
+    for (const auto& [w, m] : marks.rbegin()->second)
+        r.held_share = std::max(r.held_share,
+                                static_cast<double>(m.bodies() + m.ghosts()) / static_cast<double>(bodies));
+    const std::string text = read_text(logs / "cluster.out");
+    r.rss_mib = find_number(text, R"(memory at frame [0-9]+: ([0-9.]+) MiB resident)");
+    r.peak_mib = find_number(text, R"(MiB\), ([0-9.]+) MiB at most)");
+    std::smatch line;
+    if (std::regex_search(text, line, std::regex(R"(memory at frame [^\n]*)"))) r.memory = line.str();
+    return r;
+}
+
+}  // namespace
+#endif
+
+void run_cluster_scale(const Context& context) {
+#if LPSS_BENCH_DRIVER
+    Table table({"bodies",
+                 "workers",
+                 "first_frame_s",
+                 "sim_load_s",
+                 "start_ratio",
+                 "ms_per_frame",
+                 "p99_ms",
+                 "sim_ms_per_frame",
+                 "sim_p99_ms",
+                 "frame_budget_ms",
+                 "rss_mib",
+                 "sim_rss_mib",
+                 "rss_ratio",
+                 "peak_mib",
+                 "sim_peak_mib",
+                 "bytes_per_worker_frame_max",
+                 "bytes_per_worker_frame_mean",
+                 "held_share_max",
+                 "step_ms_max",
+                 "publish_ms_max"});
+    std::filesystem::create_directories(context.out);
+    const std::vector<std::size_t> sizes = context.quick ? std::vector<std::size_t>{10000, 30000}
+                                                         : std::vector<std::size_t>{10000, 100000, 1000000};
+    const std::vector<int> worker_counts = context.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 4};
+    const std::size_t moving = 1000;
+    const std::uint64_t frames = context.quick ? 120 : 300;
+    int domain = 170;
+    std::string memory_lines;
+    for (std::size_t n : sizes) {
+        // Scenes and logs go to a folder of this run's own (a million bodies is 150 MB of text).
+        const std::filesystem::path logs =
+            std::filesystem::temp_directory_path() / fmt::format("lpss-bench-scale-{}-{}", ::getpid(), n);
+        std::filesystem::create_directories(logs);
+        progress(fmt::format("cluster-scale: writing a world of {} resting bodies and {} balls ({})", n,
+                             moving, logs.string()));
+        const std::filesystem::path scene = logs / "world.textproto";
+        std::ofstream(scene) << format_scene(scenes::resting_world(n, moving));
+        progress(fmt::format("cluster-scale: {} bodies in lpss-sim", n));
+        const SimRun sim = run_sim(scene, frames, logs);
+        for (int workers : worker_counts) {
+            progress(fmt::format("cluster-scale: {} bodies on {} worker(s)", n, workers));
+            const std::filesystem::path run_logs = logs / fmt::format("workers-{}", workers);
+            std::filesystem::create_directories(run_logs);
+            const ClusterRun c = run_cluster(scene, n + moving + 1, workers, frames, domain++, run_logs);
+            memory_lines += fmt::format("- {} bodies, {} worker(s): {}\n", n, workers, c.memory);
+            table.add({std::to_string(n),
+                       std::to_string(workers),
+                       num(c.first_frame_s, 4),
+                       num(sim.load_s, 4),
+                       num(c.first_frame_s / sim.load_s, 3),
+                       num(c.mean_ms, 4),
+                       num(c.p99_ms, 4),
+                       num(sim.mean_ms, 4),
+                       num(sim.p99_ms, 4),
+                       num(1.5 * sim.mean_ms + 1.0, 4),
+                       num(c.rss_mib, 5),
+                       num(sim.rss_mib, 5),
+                       num(c.rss_mib / sim.rss_mib, 3),
+                       num(c.peak_mib, 5),
+                       num(sim.peak_mib, 5),
+                       num(c.bytes_max, 5),
+                       num(c.bytes_mean, 5),
+                       num(c.held_share, 3),
+                       num(c.step_max_ms, 4),
+                       num(c.publish_max_ms, 4)});
+        }
+        std::filesystem::remove_all(logs);
+    }
+    const std::string md =
+        fmt::format(
+            "scenes::resting_world: N resting bodies of five shapes, 3 units apart on a ground plane, "
+            "starting asleep, in sectors of 64; {} balls thrown across the middle (the same at every N). "
+            "{} frames, unpaced. first_frame_s: from starting lpss-cluster to the first frame ended by "
+            "every worker (as a DDS reader beside the cluster sees it); sim_load_s: lpss-sim reading the "
+            "scene and building its world. ms_per_frame, p99_ms: time between frames ended by every "
+            "worker, frames 2 on; sim_: lpss-sim's frames 2 on; frame_budget_ms: 1.5 x lpss-sim's mean "
+            "+ 1 ms, the target. rss_mib: the resident memory of every process together, taken at the "
+            "last frame (lpss-cluster's report); peak_mib: the sum of each process's most. "
+            "bytes_per_worker_frame: serialized sector samples a worker received per frame (mean over "
+            "frames; the busiest worker, and the mean over workers). held_share_max: bodies and ghosts "
+            "of the worker holding most, over the world's bodies. step_ms_max, publish_ms_max: the "
+            "busiest worker's engine step and sample writing per frame.\n\n",
+            moving, frames) +
+        table.markdown() + "\nMemory of each process (resident, and at most):\n\n" + memory_lines;
+    const std::string plot =
+        R"(set multiplot layout 2,2 title 'A world at rest: lpss-cluster against lpss-sim'
+set logscale x
+set xlabel 'bodies at rest'
+set key top left font ',8'
+set grid
+set logscale y
+set ylabel 'seconds'
+set title 'Start: first frame'
+plot '$CSV' using 1:($2==1?$3:1/0) with linespoints pt 7 title '1 worker', \
+     '$CSV' using 1:($2==2?$3:1/0) with linespoints pt 5 title '2 workers', \
+     '$CSV' using 1:($2==4?$3:1/0) with linespoints pt 9 title '4 workers', \
+     '$CSV' using 1:($2==1?$4:1/0) with linespoints pt 4 dt 2 title 'lpss-sim load', \
+     '$CSV' using 1:($2==1?1.5*$4:1/0) with lines dt 3 lc rgb 'gray' title '1.5 x lpss-sim load'
+set ylabel 'ms per frame'
+set title 'Running: mean (solid) and p99 (open)'
+plot '$CSV' using 1:($2==1?$6:1/0) with linespoints pt 7 title '1 worker', \
+     '$CSV' using 1:($2==2?$6:1/0) with linespoints pt 5 title '2 workers', \
+     '$CSV' using 1:($2==4?$6:1/0) with linespoints pt 9 title '4 workers', \
+     '$CSV' using 1:($2==4?$7:1/0) with points pt 8 title '4 workers p99', \
+     '$CSV' using 1:($2==1?$8:1/0) with linespoints pt 4 dt 2 title 'lpss-sim', \
+     '$CSV' using 1:($2==1?$10:1/0) with lines dt 3 lc rgb 'gray' title 'budget 1.5 x lpss-sim + 1 ms'
+set ylabel 'MiB'
+set title 'Memory: all processes together'
+plot '$CSV' using 1:($2==1?$11:1/0) with linespoints pt 7 title '1 worker', \
+     '$CSV' using 1:($2==2?$11:1/0) with linespoints pt 5 title '2 workers', \
+     '$CSV' using 1:($2==4?$11:1/0) with linespoints pt 9 title '4 workers', \
+     '$CSV' using 1:($2==1?$12:1/0) with linespoints pt 4 dt 2 title 'lpss-sim', \
+     '$CSV' using 1:($2==1?1.5*$12:1/0) with lines dt 3 lc rgb 'gray' title '1.5 x lpss-sim'
+set ylabel 'kB per frame'
+set title 'Bytes a worker receives (busiest)'
+plot '$CSV' using 1:($2==2?$16/1000:1/0) with linespoints pt 5 title '2 workers', \
+     '$CSV' using 1:($2==4?$16/1000:1/0) with linespoints pt 9 title '4 workers'
+unset multiplot
+)";
+    publish(context, "cluster-scale", table, "cluster-scale: a world at rest, from 10^4 to 10^6 bodies", md,
+            plot);
+#else
+    (void)context;
+    throw std::runtime_error("cluster-scale runs in the float build only");
+#endif
+}
+
+}  // namespace lpss::bench
