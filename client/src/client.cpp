@@ -293,8 +293,9 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
     for (std::uint32_t w : *workers) {
         auto it = marks.find({w, frame});
         if (it == marks.end()) return false;
-        // Planes are shown from their descriptions, which travel apart from the frames.
-        if (planes.size() < it->second.planes) return false;
+        // Planes are shown from their descriptions, which travel apart from the frames: a frame waits
+        // until those it counts (spawned or removed) have come.
+        if (planes.size() != it->second.planes) return false;
         for (const SectorKey& key : it->second.written) {
             if (!chain.holds(key, frame, frame)) return false;
         }
@@ -322,8 +323,8 @@ WorldFrame Client::State::frame_view(std::uint64_t frame) const {
     out.frame = frame;
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (!follows(key)) continue;
-        for (const auto& [id, state] : bodies) {
-            const BodySnapshot s = dds::from_wire(state, key);
+        for (const dds::SectorMirror::Body& body : bodies) {
+            const BodySnapshot s = dds::from_wire(body.state, key);
             BodyView b;
             b.id = s.id;
             b.position = s.position;
@@ -444,7 +445,7 @@ std::optional<SectorGrid> Client::grid() const { return state_->grid; }
 
 std::optional<BodyDesc> Client::description(BodyId id) const {
     if (auto plane = state_->planes.find(id); plane != state_->planes.end()) return plane->second;
-    if (const wire::BodyKind* kind = state_->mirror.kind(id)) return dds::from_wire(*kind);
+    if (const std::optional<wire::BodyKind> kind = state_->mirror.kind(id)) return dds::from_wire(*kind);
     return std::nullopt;
 }
 

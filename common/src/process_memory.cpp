@@ -20,6 +20,8 @@ std::optional<MemoryUse> memory_use(pid_t pid) {
             found = true;
         } else if (std::sscanf(line, "VmHWM: %llu kB", &kib) == 1) {
             use.peak_bytes = kib * 1024;
+        } else if (std::sscanf(line, "RssShmem: %llu kB", &kib) == 1) {
+            use.shared_bytes = kib * 1024;
         }
     }
     std::fclose(file);

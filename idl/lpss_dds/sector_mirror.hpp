@@ -2,9 +2,14 @@
 // samples replace a sector, partial ones update it; and what each body is (its kind), which travels with
 // it. Apply only samples a SectorChain accepted, in frame order. A body the wire shows in two sectors is
 // in both here: the mirror hides no fault of the writers.
+//
+// Compact, for readers that hold a whole world (the coordinator, whole-world clients): a body is its wire
+// state and the index of its kind among the distinct kinds seen (most bodies share one); names, which
+// are the body's own, are kept apart for the bodies that have one.
 #pragma once
 
-#include <map>
+#include <optional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -16,11 +21,15 @@ namespace lpss::dds {
 
 class SectorMirror {
 public:
-    using Bodies = std::map<BodyId, wire::BodyState>;
+    struct Body {
+        wire::BodyState state;
+        std::uint32_t kind = 0;  ///< index into the distinct kinds
+    };
+    using Bodies = std::vector<Body>;  ///< sorted by id
     using Sectors = std::unordered_map<SectorKey, Bodies, SectorKeyHash>;
 
     /// Applies samples (in frame order) as one batch. Bodies that left their sector in it and arrived in
-    /// no other sector of the batch have left what this mirror holds: their kinds are forgotten, and
+    /// no other sector of the batch have left what this mirror holds: their names are forgotten, and
     /// their ids added to `left` if given.
     void apply(const std::vector<const wire::SectorFrame*>& samples, std::vector<BodyId>* left = nullptr);
     /// Puts a body in a sector (one that left a sector and was never seen arriving, such as a body handed
@@ -28,12 +37,21 @@ public:
     void insert(const SectorKey& sector, const wire::BodyState& state, const wire::BodyKind& kind);
 
     const Sectors& sectors() const { return sectors_; }
-    /// What a body held here is, or nothing.
-    const wire::BodyKind* kind(BodyId id) const;
+    /// What a body held here is, with its id and name.
+    wire::BodyKind kind(const Body& body) const;
+    /// What a body is, found by id among every sector (for occasional use), or nothing.
+    std::optional<wire::BodyKind> kind(BodyId id) const;
+    std::size_t distinct_kinds() const { return kinds_.size(); }
 
 private:
+    std::uint32_t intern(const wire::BodyKind& kind);
+    /// Puts or replaces a body in a sector's sorted list.
+    void put(Bodies& bodies, const wire::BodyState& state, std::uint32_t kind);
+
     Sectors sectors_;
-    std::unordered_map<BodyId, wire::BodyKind> kinds_;
+    std::vector<wire::BodyKind> kinds_;                     ///< distinct, without id and name
+    std::unordered_map<std::string, std::uint32_t> index_;  ///< a kind's bytes -> its place in kinds_
+    std::unordered_map<BodyId, std::string> names_;         ///< the bodies that have a name
 };
 
 }  // namespace lpss::dds

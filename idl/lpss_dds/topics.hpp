@@ -19,18 +19,19 @@ inline constexpr const char* kStatus = "lpss/status";
 
 /// How a topic is delivered.
 struct Delivery {
-    bool durable = false;  ///< TRANSIENT_LOCAL: a late joiner gets the last sample of every instance
-    int depth = 1;         ///< KEEP_LAST depth per instance
+    bool durable = false;   ///< TRANSIENT_LOCAL: a late joiner gets the last sample of every instance
+    int depth = 1;          ///< KEEP_LAST depth per instance
+    bool disposes = false;  ///< instances are disposed (see with_delivery in participant.cpp)
 };
 
-/// Body descriptions and assignments: durable, the latest sample per instance.
-inline constexpr Delivery kStateDelivery{true, 1};
+/// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
+inline constexpr Delivery kStateDelivery{true, 1, true};
 /// Sector frames: durable, the last two frames per sector, so that a worker one frame behind another
 /// still receives the frame it needs before the next replaces it; readers keep a few more.
 inline constexpr Delivery kSectorFrameDelivery{true, 2};
 inline constexpr Delivery kSectorFrameReading{true, 8};
 /// Body descriptions as read: every instance's latest.
-inline constexpr Delivery kDescriptionReading{true, 1};
+inline constexpr Delivery kDescriptionReading{true, 1, true};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};

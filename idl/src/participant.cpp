@@ -157,8 +157,14 @@ Qos with_delivery(Qos q, const Delivery& d) {
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     q.history().depth = d.depth;
-    // Samples grow with the bodies of a sector: reallocate instead of preallocating the largest.
-    q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+    // Samples are as large as their sector: each payload is allocated at its size and freed when no sample
+    // needs it, so that memory follows what the histories hold now (a preallocating pool keeps the most
+    // it ever held: the whole world, for a reader of the first frame's samples). Fast DDS 2.9 loses the
+    // disposal of an instance under that policy (a removed plane stayed in every client: tested), so topics
+    // with disposals keep a pool; their samples are small.
+    q.endpoint().history_memory_policy = d.disposes
+                                             ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
+                                             : eprosima::fastrtps::rtps::DYNAMIC_RESERVE_MEMORY_MODE;
     return q;
 }
 

@@ -1,11 +1,60 @@
 #include "lpss_dds/sector_mirror.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <unordered_set>
 
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::dds {
+namespace {
+
+auto by_id = [](const SectorMirror::Body& b, BodyId id) { return b.state.id() < id; };
+
+/// The bytes that tell kinds apart (everything but id and name).
+std::string key_of(const wire::BodyKind& k) {
+    std::string key;
+    auto add = [&key](const void* data, std::size_t size) {
+        key.append(static_cast<const char*>(data), size);
+    };
+    const std::uint8_t shape = k.shape();
+    const double values[] = {k.size().x(), k.size().y(), k.size().z(),   k.plane_offset(),
+                             k.mass(),     k.friction(), k.restitution()};
+    add(&shape, sizeof shape);
+    add(values, sizeof values);
+    const bool ccd = k.ccd();
+    add(&ccd, sizeof ccd);
+    for (const wire::Vec3d& p : k.hull_points()) {
+        const double xyz[] = {p.x(), p.y(), p.z()};
+        add(xyz, sizeof xyz);
+    }
+    return key;
+}
+
+}  // namespace
+
+std::uint32_t SectorMirror::intern(const wire::BodyKind& kind) {
+    std::string key = key_of(kind);
+    auto it = index_.find(key);
+    if (it != index_.end()) return it->second;
+    wire::BodyKind shared = kind;
+    shared.id(0);
+    shared.name("");
+    kinds_.push_back(std::move(shared));
+    const auto n = static_cast<std::uint32_t>(kinds_.size() - 1);
+    index_.emplace(std::move(key), n);
+    return n;
+}
+
+void SectorMirror::put(Bodies& bodies, const wire::BodyState& state, std::uint32_t kind) {
+    auto at = std::lower_bound(bodies.begin(), bodies.end(), state.id(), by_id);
+    if (at != bodies.end() && at->state.id() == state.id()) {
+        at->state = state;
+        at->kind = kind;
+    } else {
+        bodies.insert(at, Body{state, kind});
+    }
+}
 
 void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, std::vector<BodyId>* left) {
     std::vector<BodyId> gone;
@@ -13,42 +62,81 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = from_wire(sample->sector());
         Bodies& bodies = sectors_[key];
-        if (sample->complete()) {
-            std::vector<BodyId> kept;
-            for (const wire::BodyState& b : sample->bodies())
-                kept.push_back(b.id());
-            std::sort(kept.begin(), kept.end());
-            for (const auto& [id, state] : bodies) {
-                if (!std::binary_search(kept.begin(), kept.end(), id)) gone.push_back(id);
-            }
-            bodies.clear();
-        }
-        for (std::uint64_t id : sample->departed()) {
-            if (bodies.erase(id)) gone.push_back(id);
-        }
-        for (const wire::BodyState& b : sample->bodies()) {
-            bodies[b.id()] = b;
-            arrived.insert(b.id());
-        }
+        // Kinds come for every body of a complete sample and for the arrivals of a partial one, in the
+        // order of the bodies.
+        std::unordered_map<BodyId, const wire::BodyKind*> kinds;
         for (const wire::BodyKind& k : sample->kinds())
-            kinds_[k.id()] = k;
+            kinds[k.id()] = &k;
+        if (sample->complete()) {
+            Bodies fresh;
+            fresh.reserve(sample->bodies().size());
+            for (const wire::BodyState& b : sample->bodies()) {
+                auto kind = kinds.find(b.id());
+                std::uint32_t index = 0;
+                if (kind != kinds.end()) {
+                    index = intern(*kind->second);
+                    if (!kind->second->name().empty()) names_[b.id()] = kind->second->name();
+                } else {
+                    auto old = std::lower_bound(bodies.begin(), bodies.end(), b.id(), by_id);
+                    if (old != bodies.end() && old->state.id() == b.id()) index = old->kind;
+                }
+                fresh.push_back(Body{b, index});
+                arrived.insert(b.id());
+            }
+            std::sort(fresh.begin(), fresh.end(),
+                      [](const Body& x, const Body& y) { return x.state.id() < y.state.id(); });
+            for (const Body& b : bodies) {
+                auto at = std::lower_bound(fresh.begin(), fresh.end(), b.state.id(), by_id);
+                if (at == fresh.end() || at->state.id() != b.state.id()) gone.push_back(b.state.id());
+            }
+            bodies.swap(fresh);
+        } else {
+            for (std::uint64_t id : sample->departed()) {
+                auto at = std::lower_bound(bodies.begin(), bodies.end(), id, by_id);
+                if (at == bodies.end() || at->state.id() != id) continue;
+                bodies.erase(at);
+                gone.push_back(id);
+            }
+            for (const wire::BodyState& b : sample->bodies()) {
+                auto kind = kinds.find(b.id());
+                if (kind != kinds.end()) {
+                    if (!kind->second->name().empty()) names_[b.id()] = kind->second->name();
+                    put(bodies, b, intern(*kind->second));
+                } else {
+                    auto at = std::lower_bound(bodies.begin(), bodies.end(), b.id(), by_id);
+                    if (at != bodies.end() && at->state.id() == b.id()) at->state = b;
+                    // (a body changed that this mirror does not hold: its base was missed; not shown)
+                }
+                arrived.insert(b.id());
+            }
+        }
         if (bodies.empty()) sectors_.erase(key);
     }
     for (BodyId id : gone) {
         if (arrived.count(id)) continue;
-        kinds_.erase(id);
+        names_.erase(id);
         if (left) left->push_back(id);
     }
 }
 
 void SectorMirror::insert(const SectorKey& sector, const wire::BodyState& state, const wire::BodyKind& kind) {
-    sectors_[sector][state.id()] = state;
-    kinds_[state.id()] = kind;
+    if (!kind.name().empty()) names_[state.id()] = kind.name();
+    put(sectors_[sector], state, intern(kind));
 }
 
-const wire::BodyKind* SectorMirror::kind(BodyId id) const {
-    auto it = kinds_.find(id);
-    return it == kinds_.end() ? nullptr : &it->second;
+wire::BodyKind SectorMirror::kind(const Body& body) const {
+    wire::BodyKind out = kinds_.at(body.kind);
+    out.id(body.state.id());
+    if (auto name = names_.find(body.state.id()); name != names_.end()) out.name(name->second);
+    return out;
+}
+
+std::optional<wire::BodyKind> SectorMirror::kind(BodyId id) const {
+    for (const auto& [key, bodies] : sectors_) {
+        auto at = std::lower_bound(bodies.begin(), bodies.end(), id, by_id);
+        if (at != bodies.end() && at->state.id() == id) return kind(*at);
+    }
+    return std::nullopt;
 }
 
 }  // namespace lpss::dds

@@ -152,16 +152,19 @@ int main(int argc, char** argv) {
         for (std::size_t n = 0; n < children.size(); ++n)
             all.emplace_back(fmt::format("worker {}", n + 1),
                              lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}));
-        std::uint64_t total = 0, peak = 0;
+        std::uint64_t total = 0, peak = 0, shared = 0;
         std::string now, most;
         for (const auto& [name, use] : all) {
             total += use.resident_bytes;
             peak += use.peak_bytes;
+            shared += use.shared_bytes;
             now += fmt::format("{}{} {:.0f}", now.empty() ? "" : ", ", name, mib(use.resident_bytes));
             most += fmt::format("{}{:.0f}", most.empty() ? "" : ", ", mib(use.peak_bytes));
         }
-        return fmt::format("{:.0f} MiB resident ({} MiB), {:.0f} MiB at most ({} MiB)", mib(total), now,
-                           mib(peak), most);
+        return fmt::format(
+            "{:.0f} MiB resident ({} MiB; {:.0f} MiB of it shared memory, counted by each process "
+            "mapping it), {:.0f} MiB at most ({} MiB)",
+            mib(total), now, mib(shared), mib(peak), most);
     };
     auto print = [&](bool final) {
         std::uint32_t bodies = 0, degraded = 0;

@@ -1,6 +1,5 @@
 #include "coordinator.hpp"
 
-#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "heap.hpp"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
@@ -44,7 +44,10 @@ struct Coordinator::State {
     std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
     std::unique_ptr<dds::Writer<wire::WorkerFrame>>
         marks_out;  ///< as worker 0, when it writes sectors itself
-    std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;  ///< the world's first state; restores
+    /// The world's first state, and the sectors of a worker that is gone; made when needed, and let go
+    /// after the first frame: its history would hold a copy of the whole world.
+    std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
+    dds::Writer<wire::SectorFrame>& sector_writer();
     std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Command>> commands_in;
@@ -161,6 +164,16 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     }
     state->status("loading", 0.0, 0);
     return std::unique_ptr<Coordinator>(new Coordinator(std::move(state)));
+}
+
+dds::Writer<wire::SectorFrame>& Coordinator::State::sector_writer() {
+    if (!sectors_out) {
+        dds::Participant& p = *participant;
+        sectors_out = std::make_unique<dds::Writer<wire::SectorFrame>>(
+            p, p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+            dds::writer_qos(dds::kSectorFrameDelivery));
+    }
+    return *sectors_out;
 }
 
 void Coordinator::State::status(const std::string& phase, double progress, std::uint64_t bodies) {
@@ -337,7 +350,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         }
         sample.recipients(recipients(key, sample.bodies(), radii, current));
         radii.clear();
-        sectors_out->write(sample);
+        sector_writer().write(sample);
         mirror.apply({&sample});
         wire::WrittenSector entry;
         entry.sector(sample.sector());
@@ -356,7 +369,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     scene = Scene{};
     by_sector.clear();
     at = {};
-    malloc_trim(0);
+    runtime::give_back_free_memory();
     wrote_sectors = true;
     return {};
 }
@@ -433,7 +446,8 @@ void Coordinator::State::accept_commands() {
             if (auto plane = planes.find(c.body()); plane != planes.end()) {
                 wire::BodyDescription d;
                 d.id(c.body());
-                planes_out->dispose(d);
+                if (!planes_out->dispose(d))
+                    spdlog::error("coordinator: cannot dispose the description of plane {}", c.body());
                 planes.erase(plane);
             }
         }
@@ -498,14 +512,14 @@ void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const Sect
         sample.epoch(fresh.epoch);
         sample.complete(true);
         std::vector<double> radii;
-        for (const auto& [id, state] : mirror.sectors().at(key)) {
-            sample.bodies().push_back(state);
-            sample.kinds().push_back(*mirror.kind(id));
-            radii.push_back(bounding_radius(dds::from_wire(*mirror.kind(id)).shape));
+        for (const dds::SectorMirror::Body& body : mirror.sectors().at(key)) {
+            sample.bodies().push_back(body.state);
+            sample.kinds().push_back(mirror.kind(body));
+            radii.push_back(bounding_radius(dds::from_wire(sample.kinds().back()).shape));
         }
         sample.recipients(recipients(key, sample.bodies(), radii, fresh));
         bodies += sample.bodies().size();
-        sectors_out->write(sample);
+        sector_writer().write(sample);
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());
@@ -627,6 +641,11 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.ended.assign(s.live.begin(), s.live.end());
+        // Every worker has built its world from the first state: its history is of no more use to anyone.
+        if (f == 1) {
+            s.sectors_out.reset();
+            runtime::give_back_free_memory();  // the first frame's samples, read into the mirror
+        }
         s.take_samples(f - 1);
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "coordinator.hpp"
+#include "heap.hpp"
 #include "lpss/common/logging.hpp"
 #include "stop_signal.hpp"
 
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
     }
     o.worker_wait = std::chrono::seconds(worker_wait_s);
     o.worker_timeout = std::chrono::milliseconds(worker_timeout_ms);
+    lpss::runtime::keep_large_buffers_apart();
     const auto& stop = lpss::runtime::install_stop_signal();
     auto coordinator = lpss::coordinator::Coordinator::create(o);
     if (!coordinator) {

@@ -287,6 +287,7 @@ Status World::add_bodies(const std::vector<BodyDesc>& bodies) {
         if (Status st = impl_->check_new_body(body); !st) return st;
         if (!ids.insert(body.id).second) return Error{describe_body(body) + ": id is used by another body"};
     }
+    reserve(body_count() + bodies.size());
     for (const BodyDesc& body : bodies)
         impl_->insert_body(body);
     return {};
@@ -712,6 +713,13 @@ std::optional<CloneCounts> World::clone_counts(BodyId id) const {
     const BodyRecord& rec = impl_->record(slot.value());
     if (rec.plane) return CloneCounts{0, 0};
     return CloneCounts{rec.clones.size(), rec.spare_clones.size()};
+}
+
+bool World::has_sector(const SectorKey& key) const { return impl_->find_sector(key) != nullptr; }
+
+void World::reserve(std::size_t count) {
+    impl_->bodies.reserve(count);
+    impl_->slots.reserve(count);
 }
 
 std::vector<SectorKey> World::sectors() const {

@@ -76,21 +76,18 @@ Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, std::ui
 
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                  const std::vector<std::pair<std::uint64_t, BodyDesc>>& also) {
+    // Bodies that left a sector held here (or all of a sector that releases this worker)...
     std::vector<BodyId> left;
-    std::unordered_set<BodyId> seen;
-    struct Arrival {
-        std::uint64_t rank;
-        BodyDesc body;
-        BodySnapshot state;
-    };
-    std::vector<Arrival> arrivals;
-    for (const auto& [rank, body] : also)
-        arrivals.push_back({rank, body, BodySnapshot{}});
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = dds::from_wire(sample->sector());
         const bool released = std::find(sample->released().begin(), sample->released().end(), self_) !=
                               sample->released().end();
-        if (released || sample->complete()) {
+        if (released) {
+            held_.erase(key);
+        } else if (!owns(key)) {
+            held_.insert(key);  // (the world's first state holds this worker's own sectors too)
+        }
+        if (released || (sample->complete() && world.has_sector(key))) {
             // Released: every ghost of the sector goes. Complete: the ghosts it no longer shows left it.
             std::vector<BodyId> shown;
             if (!released) {
@@ -102,55 +99,82 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                 if (!std::binary_search(shown.begin(), shown.end(), b.id)) left.push_back(b.id);
             }
         }
-        if (released) {
-            held_.erase(key);
+        left.insert(left.end(), sample->departed().begin(), sample->departed().end());
+    }
+    // ...unless they arrived in another sector of these samples.
+    std::unordered_set<BodyId> leaving(left.begin(), left.end());
+    std::unordered_set<BodyId> arrived;
+
+    // States follow; bodies new here are built from their kinds, in the scene's order for the world's
+    // first state (ranked), as lpss-sim adds them.
+    struct Arrival {
+        std::uint64_t rank;
+        const wire::SectorFrame* sample;  ///< null: `also[index]`
+        std::uint32_t index;              ///< the body in the sample
+        std::uint32_t kind;               ///< its kind in the sample
+    };
+    std::vector<Arrival> arrivals;
+    for (std::uint32_t n = 0; n < also.size(); ++n)
+        arrivals.push_back({also[n].first, nullptr, n, 0});
+    for (const wire::SectorFrame* sample : samples) {
+        const SectorKey key = dds::from_wire(sample->sector());
+        if (std::find(sample->released().begin(), sample->released().end(), self_) !=
+            sample->released().end())
             continue;
-        }
-        if (!owns(key)) held_.insert(key);  // the world's first state holds this worker's own sectors too
-        for (std::uint64_t id : sample->departed())
-            left.push_back(id);
         const bool precise = sample->offsets().size() == sample->bodies().size();
         std::size_t next_kind = 0;
-        for (std::size_t n = 0; n < sample->bodies().size(); ++n) {
-            const wire::BodyState& state = sample->bodies()[n];
-            BodySnapshot snapshot = dds::from_wire(state, key);
-            if (precise) snapshot.position.local = dds::from_wire(sample->offsets()[n]);
-            seen.insert(snapshot.id);
-            if (world.contains(snapshot.id)) {
-                if (!world.is_ghost(snapshot.id)) continue;  // its own: never moved by others
+        for (std::uint32_t n = 0; n < sample->bodies().size(); ++n) {
+            const BodyId id = sample->bodies()[n].id();
+            if (!leaving.empty() && leaving.count(id)) arrived.insert(id);
+            if (world.contains(id)) {
+                if (!world.is_ghost(id)) continue;  // its own: never moved by others
+                BodySnapshot snapshot = dds::from_wire(sample->bodies()[n], key);
+                if (precise) snapshot.position.local = dds::from_wire(sample->offsets()[n]);
                 if (Status st = world.set_state(snapshot); !st)
-                    spdlog::warn("ghost {}: {}", snapshot.id, st.error().message);
+                    spdlog::warn("ghost {}: {}", id, st.error().message);
                 continue;
             }
-            // A body new to this worker: its kind travels with it (in the sample's order, arrivals only
-            // in a partial sample).
-            while (next_kind < sample->kinds().size() && sample->kinds()[next_kind].id() != snapshot.id)
+            // A body new to this worker: its kind travels with it (in the sample's order, arrivals only in a
+            // partial sample).
+            while (next_kind < sample->kinds().size() && sample->kinds()[next_kind].id() != id)
                 ++next_kind;
             if (next_kind == sample->kinds().size()) {
                 spdlog::error("sector ({}, {}, {}): body {} arrived without its kind", key.i, key.j, key.k,
-                              snapshot.id);
+                              id);
                 next_kind = 0;
                 continue;
             }
             const std::uint64_t rank = n < sample->ranks().size() ? sample->ranks()[n] : ~std::uint64_t{0};
-            arrivals.push_back(
-                {rank, dds::placed(dds::from_wire(sample->kinds()[next_kind]), snapshot), snapshot});
+            arrivals.push_back({rank, sample, n, static_cast<std::uint32_t>(next_kind)});
         }
     }
-    // The world's first state comes ranked: bodies are added in the scene's order, as lpss-sim adds them.
     std::stable_sort(arrivals.begin(), arrivals.end(),
                      [](const Arrival& a, const Arrival& b) { return a.rank < b.rank; });
+    const bool sleeping = world.settings().sleeping;
+    world.reserve(world.body_count() + arrivals.size());
     for (const Arrival& a : arrivals) {
-        if (world.contains(a.body.id)) continue;  // arrived twice in these samples
-        if (Status st = world.add_body(a.body); !st) {
-            spdlog::error("cannot hold body {}: {}", a.body.id, st.error().message);
+        if (a.sample == nullptr) {
+            (void)world.add_body(also[a.index].second);
             continue;
         }
-        if (a.body.mass > 0.0 && a.state.id != 0)
-            (void)world.set_state(a.state);  // asleep or awake, as its owner has it
+        const wire::SectorFrame& sample = *a.sample;
+        BodySnapshot state = dds::from_wire(sample.bodies()[a.index], dds::from_wire(sample.sector()));
+        if (sample.offsets().size() == sample.bodies().size())
+            state.position.local = dds::from_wire(sample.offsets()[a.index]);
+        if (world.contains(state.id)) continue;  // arrived twice in these samples
+        BodyDesc body = dds::placed(dds::from_wire(sample.kinds()[a.kind]), state);
+        // At rest as its owner has it: a body that sleeps there starts asleep here (the world's first
+        // state); any other arrival takes its owner's state exactly below.
+        body.asleep = sleeping && body.mass > 0.0 && !state.awake && state.linear_velocity.isZero() &&
+                      state.angular_velocity.isZero();
+        if (Status st = world.add_body(body); !st) {
+            spdlog::error("cannot hold body {}: {}", body.id, st.error().message);
+            continue;
+        }
+        if (body.mass > 0.0 && a.rank == ~std::uint64_t{0}) (void)world.set_state(state);
     }
     for (BodyId id : left) {
-        if (!seen.count(id) && world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
+        if (!arrived.count(id) && world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
     }
 }
 

@@ -2,6 +2,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "heap.hpp"
 #include "lpss/common/logging.hpp"
 #include "stop_signal.hpp"
 #include "worker.hpp"
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
     }
     options.border_wait = std::chrono::milliseconds(border_wait_ms);
     options.coordinator_wait = std::chrono::seconds(coordinator_wait_s);
+    lpss::runtime::keep_large_buffers_apart();
     const auto& stop = lpss::runtime::install_stop_signal();
     auto worker = lpss::worker::Worker::create(options);
     if (!worker) {

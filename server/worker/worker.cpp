@@ -13,6 +13,7 @@
 #include "frame_gate.hpp"
 #include "halo.hpp"
 #include "handoff.hpp"
+#include "heap.hpp"
 #include "lpss/common/process_memory.hpp"
 #include "lpss/engine/world.hpp"
 #include "lpssPubSubTypes.h"
@@ -583,6 +584,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         std::vector<wire::WrittenSector> written = s.publish();
         const double publish_ms = ms_since(publish_start);
         s.mark(std::move(written), step_ms, wait_ms, publish_ms);
+        // Building the world and sending it whole leave the heap full of freed buffers.
+        if (s.frame == 1 || s.frame % 600 == 0) runtime::give_back_free_memory();
         s.gate.forget_before(s.frame - 1);
     }
     spdlog::info("worker {}: stopping", id);

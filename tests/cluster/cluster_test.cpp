@@ -200,23 +200,12 @@ public:
             chain_.forget_applied(next_);
             std::map<BodyId, int> seen;
             for (const auto& [key, bodies] : mirror_.sectors()) {
-                for (const auto& [id, state] : bodies)
-                    ++seen[id];
+                for (const dds::SectorMirror::Body& body : bodies)
+                    ++seen[body.state.id()];
             }
             ++checked;
             for (const auto& [id, n] : seen) {
-                if (n != 1) {
-                    if (doubled < 3) {
-                        std::string where;
-                        for (const auto& [key, bodies] : mirror_.sectors())
-                            if (bodies.count(id))
-                                where += " (" + std::to_string(key.i) + "," + std::to_string(key.j) + "," +
-                                         std::to_string(key.k) + ")";
-                        std::printf("DEBUG frame %llu body %llu in%s\n", (unsigned long long)next_,
-                                    (unsigned long long)id, where.c_str());
-                    }
-                    ++doubled;
-                }
+                if (n != 1) ++doubled;
             }
             if (seen.size() != expected_bodies) ++incomplete;
             marks_by_frame_.erase(it);

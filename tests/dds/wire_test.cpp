@@ -83,7 +83,8 @@ TEST(Wire, LateJoinerAndRegionFilter) {
             if (info.valid_data) in_region.push_back(f.bodies().front().id());
         });
         return seen.size() == 3 && !in_region.empty();
-    })) << seen.size() << " seen, " << in_region.size() << " in region";
+    })) << seen.size()
+        << " seen, " << in_region.size() << " in region";
     EXPECT_EQ(seen.at(2).position.sector, far) << "keys are exact at any index";
     EXPECT_EQ(seen.at(2).position.local, Eigen::Vector3d(1.5, -2.25, 63.75));
     EXPECT_EQ(seen.at(3).linear_velocity, Eigen::Vector3d(1, 2, 3));

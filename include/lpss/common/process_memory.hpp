@@ -11,6 +11,8 @@ namespace lpss {
 struct MemoryUse {
     std::uint64_t resident_bytes = 0;  ///< resident set size now (VmRSS)
     std::uint64_t peak_bytes = 0;      ///< the most it has held at once (VmHWM)
+    std::uint64_t shared_bytes = 0;    ///< of the resident set, shared memory (RssShmem): DDS segments
+                                       ///< that every process mapping them counts
 };
 
 /// The memory use of a process (this one by default), or nothing if it is gone or unreadable.

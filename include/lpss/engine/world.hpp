@@ -110,7 +110,7 @@ public:
 
     /// Adds a body; refused (the world unchanged) for an invalid body or an id already in use.
     Status add_body(const BodyDesc& body);
-    /// Adds all the bodies or, if any is refused, none of them.
+    /// Adds all the bodies (in their order) or, if any is refused, none of them.
     Status add_bodies(const std::vector<BodyDesc>& bodies);
     /// Removes a body; refused for an unknown id.
     Status remove_body(BodyId id);
@@ -165,6 +165,11 @@ public:
     std::optional<CloneCounts> clone_counts(BodyId id) const;
     /// Sectors that exist, in key order.
     std::vector<SectorKey> sectors() const;
+    /// Whether a sector exists (holds a body).
+    bool has_sector(const SectorKey& key) const;
+    /// Makes room for this many bodies in all, so that adding a large world does not grow its tables
+    /// again and again.
+    void reserve(std::size_t bodies);
     /// Checks the engine's invariants: every body finite and owned by a sector that exists and lists
     /// it, no empty sector, every clone hosted by a live sector. For tests and diagnostics: O(bodies).
     Status check_consistency() const;
