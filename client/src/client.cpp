@@ -122,7 +122,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);
     state->results_in = std::make_unique<Reader<wire::CommandResult>>(
-        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), reader_qos(kCommandDelivery),
+        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), reader_qos(kResultDelivery),
         &state->inbox);
     state->commands_out = std::make_unique<Writer<wire::Command>>(
         p, p.topic<wire::CommandPubSubType>(kCommands), writer_qos(kCommandDelivery));

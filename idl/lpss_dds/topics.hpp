@@ -26,17 +26,23 @@ struct Delivery {
 
 /// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
 inline constexpr Delivery kStateDelivery{true, 1, true};
-/// Sector frames: durable, the last two frames per sector, so that a worker one frame behind another
-/// still receives the frame it needs before the next replaces it; readers keep a few more.
-inline constexpr Delivery kSectorFrameDelivery{true, 2};
+/// Sector frames: durable. A partial sample is of use only on the sample before it, so a writer keeps the
+/// last eight of each sector: a reader that lost one (a shared-memory port full while it was busy) gets it
+/// repaired within eight frames, instead of refusing every later sample until the sector comes whole.
+/// Readers keep as many.
+inline constexpr Delivery kSectorFrameDelivery{true, 8};
 inline constexpr Delivery kSectorFrameReading{true, 8};
 /// Body descriptions as read: every instance's latest.
 inline constexpr Delivery kDescriptionReading{true, 1, true};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};
-/// Commands, results and sector requests: volatile, deep enough for bursts.
+/// Commands and sector requests: volatile, deep enough for bursts.
 inline constexpr Delivery kCommandDelivery{false, 256};
+/// Command results: durable, the last 256 per client (results are keyed by client), so that a client
+/// whose reader a worker matched only after answering still gets the answer (seen: a spawn's answer lost
+/// to discovery that had matched one side only).
+inline constexpr Delivery kResultDelivery{true, 256};
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(const Delivery& delivery);
 eprosima::fastdds::dds::DataReaderQos reader_qos(const Delivery& delivery);

@@ -38,9 +38,8 @@ void SectorPublisher::count(Sector& sector, const Body& body, int sign) {
         sector.counts.awake += s;
         totals_.awake += s;
     }
-    for (int bit = 0; bit < 27; ++bit) {
-        if (body.near & (1u << bit)) sector.near[static_cast<std::size_t>(bit)] += s;
-    }
+    for (std::uint32_t bits = body.near; bits != 0; bits &= bits - 1)  // most bodies come near nothing
+        sector.near[static_cast<std::size_t>(__builtin_ctz(bits))] += s;
 }
 
 wire::SectorFrame SectorPublisher::whole(const SectorKey& key, const std::vector<BodySnapshot>& bodies,

@@ -142,7 +142,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->planes_out = std::make_unique<Writer<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), writer_qos(kStateDelivery));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
-        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
+        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kResultDelivery));
     fdds::Topic* marks = p.topic<wire::WorkerFramePubSubType>(kWorkerFrames);
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kFrameDelivery));
     fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);

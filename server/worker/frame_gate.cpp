@@ -31,7 +31,8 @@ bool FrameGate::whole(std::uint64_t previous, const std::vector<std::uint32_t>& 
         auto it = marks_.find({worker, previous});
         if (it == marks_.end()) return false;  // which sectors it wrote is not known yet
         for (const SectorKey& key : it->second) {
-            if (chain.newest(key) < previous) return false;
+            // A sample of that frame or later (a sample of frame 0, the world's first state, counts too).
+            if (!chain.holds(key, previous, ~std::uint64_t{0})) return false;
         }
         return true;
     };

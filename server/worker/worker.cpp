@@ -143,7 +143,7 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), writer_qos(kFrameDelivery));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
-        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kCommandDelivery));
+        p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kResultDelivery));
     // Only the samples addressed to this worker: its sectors and its halo's.
     state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(
         p, p.sector_recipient(kSectorFrames, options.id), reader_qos(kSectorFrameReading), &state->inbox);
