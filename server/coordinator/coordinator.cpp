@@ -618,6 +618,9 @@ int Coordinator::run(const std::atomic<bool>& stop) {
                                           std::chrono::duration_cast<Clock::duration>(
                                               std::chrono::duration<double>((f - 1) * s.settings.dt)));
         s.go_out->write(go);
+        // While the workers step: the copy of the world catches up with the frame before, off the path
+        // from one frame's end to the next one's start.
+        if (f > 1) s.take_samples(f - 1);
         s.frame_started = Clock::now();
         if (f == 1 || f % 60 == 0) s.status("running", 0.0, s.statics.size());
         if (finished) {
@@ -646,7 +649,6 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             s.sectors_out.reset();
             runtime::give_back_free_memory();  // the first frame's samples, read into the mirror
         }
-        s.take_samples(f - 1);
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
             s.next.epoch == s.current.epoch) {

@@ -109,7 +109,9 @@ struct Worker::State {
     void apply_command(const wire::Command& command, std::uint64_t order);
     void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
     void count_load(const SectorKey& key, const dds::SectorPublisher::Counts& before);
+    /// Makes the samples of what changed (into `outgoing`, written after the mark) and says which.
     std::vector<wire::WrittenSector> publish();
+    std::vector<wire::SectorFrame> outgoing;
     void mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms, double publish_ms);
 };
 
@@ -436,7 +438,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         sample->released(std::move(to.released));
         sample->worker(options.id);
         sample->epoch(halo.current().epoch);
-        frames_out->write(*sample);
+        outgoing.push_back(std::move(*sample));
         wire::WrittenSector entry;
         entry.sector(sample->sector());
         entry.recipients(std::move(to.recipients));
@@ -532,6 +534,7 @@ int Worker::run(const std::atomic<bool>& stop) {
 
     const auto started = Clock::now();
     bool coordinator_seen = false;
+    double write_ms = 0.0;  // writing the last frame's samples, reported with the next frame's mark
     while (!stop.load()) {
         s.pump();
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
@@ -582,8 +585,15 @@ int Worker::run(const std::atomic<bool>& stop) {
         const double step_ms = ms_since(step_start);
         const auto publish_start = Clock::now();
         std::vector<wire::WrittenSector> written = s.publish();
-        const double publish_ms = ms_since(publish_start);
+        const double publish_ms = ms_since(publish_start) + write_ms;
+        // The mark first: the coordinator can start the next frame while the samples are written; the
+        // workers that hold them wait for them.
         s.mark(std::move(written), step_ms, wait_ms, publish_ms);
+        const auto write_start = Clock::now();
+        for (const wire::SectorFrame& sample : s.outgoing)
+            s.frames_out->write(sample);
+        s.outgoing.clear();
+        write_ms = ms_since(write_start);
         // Building the world and sending it whole leave the heap full of freed buffers.
         if (s.frame == 1 || s.frame % 600 == 0) runtime::give_back_free_memory();
         s.gate.forget_before(s.frame - 1);
