@@ -44,7 +44,7 @@ std::vector<std::uint32_t> Halo::near(const World& world, const std::vector<Body
     return out;
 }
 
-Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, std::uint64_t frame) {
+Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, bool emptied, std::uint64_t frame) {
     const bool switching = switching_after(frame);
     Addressing out;
     for (int bit = 0; bit < 27; ++bit) {
@@ -59,13 +59,28 @@ Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, std::ui
                          out.recipients.end());
     std::sort(out.recipients.begin(), out.recipients.end());
 
-    std::vector<std::uint32_t>& before = addressed_[key];
-    for (std::uint32_t w : out.recipients)
-        out.gained = out.gained || !contains(before, w);
-    for (std::uint32_t w : before) {
-        if (!contains(out.recipients, w)) out.released.push_back(w);
+    // A worker no longer needed keeps the sector for a while: a ball rolling along a border would
+    // otherwise make its neighbour drop the sector and take it whole again and again.
+    std::vector<Recipient>& before = addressed_[key];
+    for (std::uint32_t w : out.recipients) {
+        auto known =
+            std::find_if(before.begin(), before.end(), [w](const Recipient& r) { return r.worker == w; });
+        if (known == before.end()) {
+            out.gained = true;
+            before.push_back({w, frame});
+        } else {
+            known->needed = frame;
+        }
     }
-    before = out.recipients;
+    for (auto it = before.begin(); it != before.end();) {
+        if (frame - it->needed > kKeepUnneeded || emptied) {
+            out.released.push_back(it->worker);
+            it = before.erase(it);
+        } else {
+            if (!contains(out.recipients, it->worker)) out.recipients.push_back(it->worker);
+            ++it;
+        }
+    }
     if (before.empty()) addressed_.erase(key);
     // Released workers get this sample too, to learn that they hold the sector no more.
     for (std::uint32_t w : out.released)

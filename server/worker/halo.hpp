@@ -41,20 +41,21 @@ public:
     /// Who one of its own sectors goes to now, given the neighbours its bodies come near: their owners
     /// (and, at the frame before an assignment change, their owners under the next one too, and the next
     /// owner of the sector). `gained`: recipients it had not been sent to (they need it whole);
-    /// `released`: those it no longer goes to (the sample still reaches them, to say so).
+    /// `released`: those it no longer goes to (the sample still reaches them, to say so). A worker no
+    /// longer needed keeps the sector for kKeepUnneeded frames; `emptied`: the sector has no body left,
+    /// every recipient is released at once.
     struct Addressing {
         std::vector<std::uint32_t> recipients;
         std::vector<std::uint32_t> released;
         bool gained = false;
         bool changed() const { return gained || !released.empty(); }
     };
-    Addressing address(const SectorKey& key, std::uint32_t near, std::uint64_t frame);
+    Addressing address(const SectorKey& key, std::uint32_t near, bool emptied, std::uint64_t frame);
+    static constexpr std::uint64_t kKeepUnneeded = 60;
     /// Forgets a sector given away (its new owner addresses it from now on).
     void forget(const SectorKey& key) { addressed_.erase(key); }
-    /// The workers a sector given away went to, which its new owner tells when they hold it no more.
-    void reached(const SectorKey& key, std::vector<std::uint32_t> workers) {
-        addressed_[key] = std::move(workers);
-    }
+    /// A worker that holds a sector taken over (its old owner), to be told whether it still does.
+    void reached(const SectorKey& key, std::uint32_t worker) { addressed_[key] = {{worker, 0}}; }
 
     /// Whether a sector of another worker is held here (its samples are addressed to this worker).
     bool holds(const SectorKey& key) const { return held_.count(key) != 0; }
@@ -72,7 +73,11 @@ private:
     SectorAssignment current_;
     SectorAssignment next_;
     double largest_radius_ = 0.0;
-    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> addressed_;  ///< own sectors
+    struct Recipient {
+        std::uint32_t worker = 0;
+        std::uint64_t needed = 0;  ///< the last frame a body came near its sectors
+    };
+    std::unordered_map<SectorKey, std::vector<Recipient>, SectorKeyHash> addressed_;  ///< own sectors
     std::set<SectorKey> held_;  ///< other workers' sectors addressed here
 };
 

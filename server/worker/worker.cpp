@@ -345,7 +345,7 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
             if (!halo.owns(key) || publisher.publishes(key)) continue;
             adopted.insert(key);
             const std::uint32_t before = current.owner_of(key);
-            if (before != 0 && before != options.id) halo.reached(key, {before});
+            if (before != 0 && before != options.id) halo.reached(key, before);
         }
         spdlog::info("worker {}: assignment epoch {} from frame {}", options.id, switched.epoch, go.frame());
     }
@@ -427,7 +427,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
             sample = publisher.update(key, changes.bodies, halo.near(w, changes.bodies, changes.radii),
                                       changes.left, frame, describe);
         }
-        Halo::Addressing to = halo.address(key, publisher.near(key), frame);
+        Halo::Addressing to = halo.address(key, publisher.near(key), !publisher.publishes(key), frame);
         // A worker that gains the sector builds its ghosts from a complete sample; one released learns it
         // from whatever sample comes, an empty one if nothing changed.
         if (to.gained && !(sample && sample->complete())) send_whole();
