@@ -645,10 +645,10 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         }
         s.ended.assign(s.live.begin(), s.live.end());
         // Every worker has built its world from the first state: its history is of no more use to anyone.
-        if (f == 1) {
-            s.sectors_out.reset();
-            runtime::give_back_free_memory();  // the first frame's samples, read into the mirror
-        }
+        if (f == 1) s.sectors_out.reset();
+        // The first frame's samples (the whole world, sent whole) have gone into the copy of the world
+        // by now: their buffers are free.
+        if (f == 3) runtime::give_back_free_memory();
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
             s.next.epoch == s.current.epoch) {
