@@ -2,13 +2,13 @@
 # Runs lpss-bench sub-commands into docs/results/ and assembles docs/results.md from
 # docs/results.template.md, where {{NAME}} stands for the markdown NAME's run produced.
 # usage: deploy/run-bench.sh [SUBCOMMAND ...]   (default: all; --assemble: only rebuild docs/results.md).
-# Takes a quiet machine and about 30 minutes.
+# Takes a quiet machine and about an hour (cluster-scale alone, up to a million bodies: about 25 minutes).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
 out="$root/docs/results"
 subs=("$@")
-if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability cluster); fi
+if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability cluster cluster-scale); fi
 for sub in "${subs[@]}"; do
     echo "lpss: lpss-bench $sub"
     (cd "$root" && build/lpss-bench --out docs/results "$sub" >/dev/null)
@@ -17,7 +17,7 @@ done
 template="$root/docs/results.template.md"
 {
     while IFS= read -r line; do
-        if [[ "$line" =~ ^\{\{([a-z_]+)\}\}$ ]]; then
+        if [[ "$line" =~ ^\{\{([a-z_-]+)\}\}$ ]]; then
             name="${BASH_REMATCH[1]}"
             md="$out/$name/$name.md"
             if [[ -f "$md" ]]; then

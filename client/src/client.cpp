@@ -177,7 +177,9 @@ void Client::State::take() {
         marks[{m.worker(), m.frame()}] = std::move(mark);
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || f.worker() == 0) return;  // the coordinator's samples are for workers
+        // The coordinator's samples hold the world's first state, of sectors not written since (and the
+        // state of a dead worker's sectors, for their next owner).
+        if (!info.valid_data || chain.stale(f)) return;
         if (!chain.accept(f)) {
             wanted_whole.insert(dds::from_wire(f.sector()));
             return;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <set>
 #include <unordered_map>
+#include <vector>
 
 #include "lpss.h"
 #include "lpss/common/sector_key.hpp"
@@ -18,6 +19,10 @@ public:
     /// Whether `sample` can be applied on the samples accepted before it (applied in frame order); if so,
     /// its frame is remembered as one the reader will hold the sector at.
     bool accept(const wire::SectorFrame& sample);
+    /// Whether `sample` comes after the reader applied a state of its sector as new or newer: from another
+    /// writer's history that reached the reader late (the coordinator's first state, a sector's previous
+    /// owner). accept() refuses it; applying it would take the sector back in time.
+    bool stale(const wire::SectorFrame& sample) const;
     /// Whether an accepted sample of `sector` has a frame in [from, to]: the sector as of `to` is known.
     bool holds(const SectorKey& sector, std::uint64_t from, std::uint64_t to) const;
     /// The frame of the newest accepted sample of `sector` (0: none).
@@ -29,7 +34,11 @@ public:
 
 private:
     std::unordered_map<SectorKey, std::set<std::uint64_t>, SectorKeyHash> accepted_;
+    /// Sectors holding more than one accepted frame: forget_applied looks at these alone (a reader of a
+    /// large world holds thousands of sectors, and a few change in a frame).
+    std::vector<SectorKey> several_;
     std::uint64_t refused_ = 0;
+    std::uint64_t applied_ = 0;  ///< forget_applied's latest frame
 };
 
 }  // namespace lpss::dds

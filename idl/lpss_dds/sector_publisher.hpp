@@ -40,6 +40,10 @@ public:
     wire::SectorFrame whole(const SectorKey& key, const std::vector<BodySnapshot>& bodies,
                             const std::vector<std::uint32_t>& near, std::uint64_t frame,
                             const Describe& describe);
+    /// A sector readers already hold whole as of `frame` from another writer (the coordinator's samples of
+    /// the world's first state): the same as whole() without the sample. Its next sample is partial.
+    void adopt(const SectorKey& key, const std::vector<BodySnapshot>& bodies,
+               const std::vector<std::uint32_t>& near, std::uint64_t frame);
     /// The partial sample that brings readers of a sector published before to its state now, from the
     /// bodies that may have changed or arrived (sorted by id, with their near masks) and the ids of those
     /// that left (sorted); nothing if nothing changed for readers.

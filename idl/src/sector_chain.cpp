@@ -1,12 +1,20 @@
 #include "lpss_dds/sector_chain.hpp"
 
+#include <algorithm>
 #include <iterator>
 
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::dds {
 
+bool SectorChain::stale(const wire::SectorFrame& sample) const {
+    if (sample.frame() > applied_) return false;
+    auto it = accepted_.find(from_wire(sample.sector()));
+    return it != accepted_.end() && !it->second.empty() && *it->second.rbegin() >= sample.frame();
+}
+
 bool SectorChain::accept(const wire::SectorFrame& sample) {
+    if (stale(sample)) return false;
     std::set<std::uint64_t>& frames = accepted_[from_wire(sample.sector())];
     // A partial sample holds every change since its base: any sector state the reader holds from the base
     // on, and before the sample, becomes the sample's state once the sample is applied on it.
@@ -16,7 +24,8 @@ bool SectorChain::accept(const wire::SectorFrame& sample) {
         ++refused_;
         return false;
     }
-    frames.insert(sample.frame());
+    if (frames.insert(sample.frame()).second && frames.size() == 2)
+        several_.push_back(from_wire(sample.sector()));
     return true;
 }
 
@@ -33,10 +42,15 @@ std::uint64_t SectorChain::newest(const SectorKey& sector) const {
 }
 
 void SectorChain::forget_applied(std::uint64_t frame) {
-    for (auto& [key, frames] : accepted_) {
+    applied_ = std::max(applied_, frame);
+    std::vector<SectorKey> still;
+    for (const SectorKey& key : several_) {
+        std::set<std::uint64_t>& frames = accepted_.at(key);
         const auto later = frames.upper_bound(frame);
         if (later != frames.begin()) frames.erase(frames.begin(), std::prev(later));
+        if (frames.size() > 1) still.push_back(key);
     }
+    several_ = std::move(still);
 }
 
 }  // namespace lpss::dds

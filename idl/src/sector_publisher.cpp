@@ -46,24 +46,33 @@ wire::SectorFrame SectorPublisher::whole(const SectorKey& key, const std::vector
                                          const std::vector<std::uint32_t>& near, std::uint64_t frame,
                                          const Describe& describe) {
     wire::SectorFrame sample = sample_of(key, frame, frame, true);
-    forget(key);
+    adopt(key, bodies, near, frame);
     if (bodies.empty()) return sample;
-    Sector& sector = sectors_[key];
-    sector.bodies.reserve(bodies.size());
+    const Sector& sector = sectors_.at(key);
     sample.bodies().reserve(bodies.size());
     sample.kinds().reserve(bodies.size());
     sample.offsets().reserve(bodies.size());
     for (std::size_t n = 0; n < bodies.size(); ++n) {
-        Body body{to_wire(bodies[n]), near[n]};
-        sample.bodies().push_back(body.state);
+        sample.bodies().push_back(sector.bodies[n].state);
         sample.kinds().push_back(describe(bodies[n].id));
         sample.offsets().push_back(to_wire(bodies[n].position.local));
+    }
+    return sample;
+}
+
+void SectorPublisher::adopt(const SectorKey& key, const std::vector<BodySnapshot>& bodies,
+                            const std::vector<std::uint32_t>& near, std::uint64_t frame) {
+    forget(key);
+    if (bodies.empty()) return;
+    Sector& sector = sectors_[key];
+    sector.bodies.reserve(bodies.size());
+    for (std::size_t n = 0; n < bodies.size(); ++n) {
+        Body body{to_wire(bodies[n]), near[n]};
         count(sector, body, +1);
         sector.bodies.push_back(std::move(body));
     }
     sector.stamp = frame;
     sector.complete = true;
-    return sample;
 }
 
 std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,

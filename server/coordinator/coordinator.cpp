@@ -47,7 +47,6 @@ struct Coordinator::State {
     /// The world's first state, and the sectors of a worker that is gone; made when needed, and let go
     /// after the first frame: its history would hold a copy of the whole world.
     std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
-    dds::Writer<wire::SectorFrame>& sector_writer();
     std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Command>> commands_in;
@@ -164,16 +163,6 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     }
     state->status("loading", 0.0, 0);
     return std::unique_ptr<Coordinator>(new Coordinator(std::move(state)));
-}
-
-dds::Writer<wire::SectorFrame>& Coordinator::State::sector_writer() {
-    if (!sectors_out) {
-        dds::Participant& p = *participant;
-        sectors_out = std::make_unique<dds::Writer<wire::SectorFrame>>(
-            p, p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
-            dds::writer_qos(dds::kSectorFrameDelivery));
-    }
-    return *sectors_out;
 }
 
 void Coordinator::State::status(const std::string& phase, double progress, std::uint64_t bodies) {
@@ -350,7 +339,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         }
         sample.recipients(recipients(key, sample.bodies(), radii, current));
         radii.clear();
-        sector_writer().write(sample);
+        sectors_out->write(sample);
         mirror.apply({&sample});
         wire::WrittenSector entry;
         entry.sector(sample.sector());
@@ -519,7 +508,7 @@ void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const Sect
         }
         sample.recipients(recipients(key, sample.bodies(), radii, fresh));
         bodies += sample.bodies().size();
-        sector_writer().write(sample);
+        sectors_out->write(sample);
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());
@@ -644,8 +633,6 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.ended.assign(s.live.begin(), s.live.end());
-        // Every worker has built its world from the first state: its history is of no more use to anyone.
-        if (f == 1) s.sectors_out.reset();
         // The first frame's samples (the whole world, sent whole) have gone into the copy of the world
         // by now: their buffers are free.
         if (f == 3) runtime::give_back_free_memory();

@@ -542,6 +542,8 @@ SectorChanges World::sector_changes(const SectorKey& key) const {
     std::vector<BodyId> ids = entry->touched;
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    out.bodies.reserve(ids.size());
+    out.radii.reserve(ids.size());
     for (BodyId id : ids) {
         if (const BodyRecord* rec = here(id)) {
             out.bodies.push_back(w.snapshot_of(*rec));

@@ -89,6 +89,16 @@ Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, bool em
     return out;
 }
 
+void Halo::addressed(const SectorKey& key, const std::vector<std::uint32_t>& recipients,
+                     std::uint64_t frame) {
+    std::vector<Recipient>& to = addressed_[key];
+    to.clear();
+    for (std::uint32_t w : recipients) {
+        if (w != self_ && w != 0) to.push_back({w, frame});
+    }
+    if (to.empty()) addressed_.erase(key);
+}
+
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                  const std::vector<std::pair<std::uint64_t, BodyDesc>>& also) {
     // Bodies that left a sector held here (or all of a sector that releases this worker)...

@@ -54,6 +54,9 @@ public:
     static constexpr std::uint64_t kKeepUnneeded = 60;
     /// Forgets a sector given away (its new owner addresses it from now on).
     void forget(const SectorKey& key) { addressed_.erase(key); }
+    /// One of its own sectors as another writer addressed it (the coordinator, with the world's first
+    /// state): those recipients hold it whole as of `frame`.
+    void addressed(const SectorKey& key, const std::vector<std::uint32_t>& recipients, std::uint64_t frame);
     /// A worker that holds a sector taken over (its old owner), to be told whether it still does.
     void reached(const SectorKey& key, std::uint32_t worker) { addressed_[key] = {{worker, 0}}; }
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "frame_gate.hpp"
 #include "halo.hpp"
@@ -190,6 +191,7 @@ void Worker::State::pump() {
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || f.worker() == options.id) return;
         received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
+        if (chain.stale(f)) return;
         // A refused sample (its base missing) is not applied: a complete one will come.
         if (!chain.accept(f)) {
             spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, f.frame());
@@ -244,10 +246,28 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         ranked_planes.push_back(plane);
         planes.insert(id);
     }
+    // Readers hold this worker's sectors as the coordinator sent them, from the coordinator's history:
+    // publishing them again would send the whole world at frame 1 (200 MB for a million bodies) and stall
+    // the first frames. Their first samples are partial, on the coordinator's.
+    std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> seed_recipients;
+    if (auto first = samples.find(0); first != samples.end()) {
+        for (const wire::SectorFrame& f : first->second) {
+            const SectorKey key = dds::from_wire(f.sector());
+            if (f.worker() == 0 && halo.owns(key)) seed_recipients[key] = f.recipients();
+        }
+    }
     apply_samples(0, ranked_planes);
     early_planes.clear();
     for (const SectorKey& key : world->sectors()) {
-        if (halo.owns(key)) adopted.insert(key);
+        if (!halo.owns(key)) continue;
+        auto seeded = seed_recipients.find(key);
+        if (seeded == seed_recipients.end()) {
+            adopted.insert(key);  // not from the coordinator's first state: published whole at frame 1
+            continue;
+        }
+        const std::vector<BodySnapshot> all = world->sector_bodies(key);
+        publisher.adopt(key, all, halo.near(*world, all, radii_of(*world, all)), 0);
+        halo.addressed(key, seeded->second, 0);
     }
     spdlog::info("worker {}: holds {} bodies ({} sectors of its own) after {:.2f} s", options.id,
                  world->body_count(), world->sectors().size(),

@@ -161,7 +161,7 @@ ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, i
                                 static_cast<double>(m.bodies() + m.ghosts()) / static_cast<double>(bodies));
     const std::string text = read_text(logs / "cluster.out");
     r.rss_mib = find_number(text, R"(memory at frame [0-9]+: ([0-9.]+) MiB resident)");
-    r.peak_mib = find_number(text, R"(MiB\), ([0-9.]+) MiB at most)");
+    r.peak_mib = find_number(text, R"(\), ([0-9.]+) MiB at most)");
     std::smatch line;
     if (std::regex_search(text, line, std::regex(R"(memory at frame [^\n]*)"))) r.memory = line.str();
     return r;
@@ -193,8 +193,9 @@ void run_cluster_scale(const Context& context) {
                  "step_ms_max",
                  "publish_ms_max"});
     std::filesystem::create_directories(context.out);
-    const std::vector<std::size_t> sizes = context.quick ? std::vector<std::size_t>{10000, 30000}
-                                                         : std::vector<std::size_t>{10000, 100000, 1000000};
+    const std::vector<std::size_t> sizes = !context.sizes.empty() ? context.sizes
+                                           : context.quick        ? std::vector<std::size_t>{10000, 30000}
+                                                           : std::vector<std::size_t>{10000, 100000, 1000000};
     const std::vector<int> worker_counts = context.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 4};
     const std::size_t moving = 1000;
     const std::uint64_t frames = context.quick ? 120 : 300;
@@ -238,7 +239,7 @@ void run_cluster_scale(const Context& context) {
                        num(c.step_max_ms, 4),
                        num(c.publish_max_ms, 4)});
         }
-        std::filesystem::remove_all(logs);
+        if (!context.keep) std::filesystem::remove_all(logs);
     }
     const std::string md =
         fmt::format(
@@ -272,11 +273,14 @@ plot '$CSV' using 1:($2==1?$3:1/0) with linespoints pt 7 title '1 worker', \
      '$CSV' using 1:($2==1?1.5*$4:1/0) with lines dt 3 lc rgb 'gray' title '1.5 x lpss-sim load'
 set ylabel 'ms per frame'
 set title 'Running: mean (solid) and p99 (open)'
-plot '$CSV' using 1:($2==1?$6:1/0) with linespoints pt 7 title '1 worker', \
-     '$CSV' using 1:($2==2?$6:1/0) with linespoints pt 5 title '2 workers', \
-     '$CSV' using 1:($2==4?$6:1/0) with linespoints pt 9 title '4 workers', \
-     '$CSV' using 1:($2==4?$7:1/0) with points pt 8 title '4 workers p99', \
-     '$CSV' using 1:($2==1?$8:1/0) with linespoints pt 4 dt 2 title 'lpss-sim', \
+plot '$CSV' using 1:($2==1?$6:1/0) with linespoints pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$6:1/0) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$6:1/0) with linespoints pt 9 lc 3 title '4 workers', \
+     '$CSV' using 1:($2==1?$7:1/0) with points pt 6 lc 1 title '1 worker p99', \
+     '$CSV' using 1:($2==2?$7:1/0) with points pt 4 lc 2 title '2 workers p99', \
+     '$CSV' using 1:($2==4?$7:1/0) with points pt 8 lc 3 title '4 workers p99', \
+     '$CSV' using 1:($2==1?$9:1/0) with points pt 12 lc 4 title 'lpss-sim p99', \
+     '$CSV' using 1:($2==1?$8:1/0) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
      '$CSV' using 1:($2==1?$10:1/0) with lines dt 3 lc rgb 'gray' title 'budget 1.5 x lpss-sim + 1 ms'
 set ylabel 'MiB'
 set title 'Memory: all processes together'

@@ -53,11 +53,13 @@ std::string num(double value, int digits = 4);
 
 /// Where a sub-command writes and how it was invoked.
 struct Context {
-    std::filesystem::path out;  ///< output folder of this sub-command
-    std::string command;        ///< the command line that produced the results
-    std::string twin;           ///< path of lpss-bench-f64
-    bool quick = false;         ///< smaller sizes, for a smoke run
-    bool as_twin = false;       ///< running inside the twin: print the table as CSV, nothing else
+    std::filesystem::path out;       ///< output folder of this sub-command
+    std::string command;             ///< the command line that produced the results
+    std::string twin;                ///< path of lpss-bench-f64
+    bool quick = false;              ///< smaller sizes, for a smoke run
+    bool as_twin = false;            ///< running inside the twin: print the table as CSV, nothing else
+    bool keep = false;               ///< keep the scenes and logs a sub-command writes to a temporary folder
+    std::vector<std::size_t> sizes;  ///< world sizes instead of the sub-command's own (when not empty)
 };
 
 /// "2 x Intel(R) Xeon(R) ..., Linux 6.1, g++ 12.2.0, Bullet 3.24": the machine a result came from.

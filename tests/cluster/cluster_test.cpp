@@ -154,12 +154,15 @@ public:
         EXPECT_TRUE(p.ok());
         participant_ = std::move(p).value();
         auto& part = *participant_;
+        // Deep histories: this reader checks every frame, and must not lose one to the next while it
+        // checks a large world's first state.
+        const dds::Delivery every_frame{true, 256};
         frames_ = std::make_unique<dds::Reader<wire::SectorFrame>>(
-            part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
-            dds::reader_qos(dds::kSectorFrameReading), &inbox_);
+            part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames), dds::reader_qos(every_frame),
+            &inbox_);
         marks_ = std::make_unique<dds::Reader<wire::WorkerFrame>>(
-            part, part.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames),
-            dds::reader_qos(dds::kFrameDelivery), &inbox_);
+            part, part.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(every_frame),
+            &inbox_);
         owners_ = std::make_unique<dds::Reader<wire::Assignment>>(
             part, part.topic<wire::AssignmentPubSubType>(dds::kSectorOwners),
             dds::reader_qos(dds::kStateDelivery), &inbox_);
@@ -173,7 +176,8 @@ public:
     void poll() {
         inbox_.wait(std::chrono::milliseconds(20));
         frames_->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-            if (!info.valid_data || f.worker() == 0) return;  // the coordinator's seeds are for workers
+            // The coordinator's samples (worker 0) hold the sectors not written since the first state.
+            if (!info.valid_data || chain_.stale(f)) return;
             if (!f.complete()) ++partial;
             if (chain_.accept(f)) pending_[f.frame()].push_back(f);
         });

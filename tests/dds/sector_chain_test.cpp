@@ -72,6 +72,24 @@ TEST(SectorChain, ForgettingAppliedFramesKeepsTheNewestOfEachSector) {
     EXPECT_TRUE(chain.accept(partial(16, 10, {})));  // 11 and 15 still hold the base's sector
 }
 
+TEST(SectorChain, ASampleOlderThanWhatWasAppliedIsStaleAndRefused) {
+    // A reader that joins gets the coordinator's first state (frame 0) and a worker's newer samples from
+    // two histories, in any order: the first state must not take a sector back once a newer one applied.
+    SectorChain chain;
+    ASSERT_TRUE(chain.accept(complete(40, {})));
+    chain.forget_applied(40);
+    EXPECT_TRUE(chain.stale(complete(0, {})));
+    EXPECT_FALSE(chain.accept(complete(0, {})));
+    EXPECT_EQ(chain.refused(), 0u) << "a stale sample is not a broken chain";
+    EXPECT_FALSE(chain.holds(kSector, 0, 0));
+    // Not stale: newer than anything applied, or of a sector the reader holds nothing of.
+    EXPECT_FALSE(chain.stale(partial(41, 40, {})));
+    wire::SectorFrame elsewhere = complete(0, {});
+    elsewhere.sector().i(kSector.i + 1);
+    EXPECT_FALSE(chain.stale(elsewhere));
+    EXPECT_TRUE(chain.accept(elsewhere));
+}
+
 TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
     SectorMirror mirror;
     const wire::SectorFrame first = complete(10, {state_of(1, 1.0), state_of(2, 2.0), state_of(3, 3.0)});
