@@ -78,6 +78,15 @@ struct Client::State {
     bool stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const;
     void apply_until(std::uint64_t frame);
     WorldFrame frame_view(std::uint64_t frame) const;
+    WorldFrame changes_view(std::uint64_t frame);
+    BodyView view_of(const SectorKey& key, const wire::BodyState& state) const;
+    BodyView view_of(BodyId id, const BodyDesc& plane) const;
+    /// Of the samples applied since the last frame returned: the bodies they carry, with their sectors,
+    /// and those that left what this client holds (FrameContent::changes).
+    std::vector<std::pair<BodyId, SectorKey>> touched;
+    std::vector<BodyId> left;
+    std::set<BodyId> planes_shown;  ///< the planes of the last frame returned (FrameContent::changes)
+    bool shown_whole = false;       ///< a frame with every body was returned (FrameContent::changes)
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
 };
@@ -315,9 +324,89 @@ void Client::State::apply_until(std::uint64_t frame) {
         for (const wire::SectorFrame& f : it->second)
             batch.push_back(&f);
     }
-    mirror.apply(batch);
+    if (options.content == FrameContent::changes) {
+        for (const wire::SectorFrame* sample : batch) {
+            const SectorKey key = dds::from_wire(sample->sector());
+            for (const wire::BodyState& b : sample->bodies())
+                touched.emplace_back(b.id(), key);
+        }
+    }
+    mirror.apply(batch, options.content == FrameContent::changes ? &left : nullptr);
     pending.erase(pending.begin(), end);
     chain.forget_applied(frame);
+}
+
+BodyView Client::State::view_of(const SectorKey& key, const wire::BodyState& state) const {
+    const BodySnapshot s = dds::from_wire(state, key);
+    BodyView b;
+    b.id = s.id;
+    b.position = s.position;
+    b.orientation = s.orientation;
+    b.linear_velocity = s.linear_velocity;
+    b.angular_velocity = s.angular_velocity;
+    b.awake = s.awake;
+    b.global = grid->to_global(b.position);
+    return b;
+}
+
+BodyView Client::State::view_of(BodyId id, const BodyDesc& plane) const {
+    BodyView b;
+    b.id = id;
+    b.position = std::get<SectorPosition>(plane.position);
+    b.orientation = plane.orientation;
+    b.global = grid->to_global(b.position);
+    return b;
+}
+
+WorldFrame Client::State::changes_view(std::uint64_t frame) {
+    WorldFrame out;
+    if (!shown_whole) {
+        out = frame_view(frame);
+        shown_whole = true;
+        for (const auto& [id, plane] : planes) {
+            if (follows(std::get<SectorPosition>(plane.position).sector)) planes_shown.insert(id);
+        }
+    } else {
+        out.frame = frame;
+        out.every_body = false;
+        // Where each body the samples carried is now: the last of its sectors that holds it (a body that
+        // crossed a border comes in two samples).
+        std::sort(touched.begin(), touched.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (std::size_t n = 0; n < touched.size();) {
+            const BodyId id = touched[n].first;
+            std::optional<BodyView> found;
+            for (; n < touched.size() && touched[n].first == id; ++n) {
+                const SectorKey& key = touched[n].second;
+                auto sector = mirror.sectors().find(key);
+                if (found || !follows(key) || sector == mirror.sectors().end()) continue;
+                const dds::SectorMirror::Bodies& bodies = sector->second;
+                auto at = std::lower_bound(
+                    bodies.begin(), bodies.end(), id,
+                    [](const dds::SectorMirror::Body& b, BodyId x) { return b.state.id() < x; });
+                if (at != bodies.end() && at->state.id() == id) found = view_of(key, at->state);
+            }
+            if (found) out.bodies.push_back(*found);
+        }
+        out.departed = std::move(left);
+        std::set<BodyId> now;
+        for (const auto& [id, plane] : planes) {
+            if (!follows(std::get<SectorPosition>(plane.position).sector)) continue;
+            now.insert(id);
+            if (!planes_shown.count(id)) out.bodies.push_back(view_of(id, plane));
+        }
+        for (BodyId id : planes_shown) {
+            if (!now.count(id)) out.departed.push_back(id);
+        }
+        planes_shown = std::move(now);
+        std::sort(out.bodies.begin(), out.bodies.end(),
+                  [](const BodyView& a, const BodyView& b) { return a.id < b.id; });
+        std::sort(out.departed.begin(), out.departed.end());
+        out.departed.erase(std::unique(out.departed.begin(), out.departed.end()), out.departed.end());
+    }
+    touched.clear();
+    left.clear();
+    return out;
 }
 
 WorldFrame Client::State::frame_view(std::uint64_t frame) const {
@@ -325,28 +414,12 @@ WorldFrame Client::State::frame_view(std::uint64_t frame) const {
     out.frame = frame;
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (!follows(key)) continue;
-        for (const dds::SectorMirror::Body& body : bodies) {
-            const BodySnapshot s = dds::from_wire(body.state, key);
-            BodyView b;
-            b.id = s.id;
-            b.position = s.position;
-            b.orientation = s.orientation;
-            b.linear_velocity = s.linear_velocity;
-            b.angular_velocity = s.angular_velocity;
-            b.awake = s.awake;
-            b.global = grid->to_global(b.position);
-            out.bodies.push_back(b);
-        }
+        for (const dds::SectorMirror::Body& body : bodies)
+            out.bodies.push_back(view_of(key, body.state));
     }
     // Planes are not in any sector's frames (each worker holds its own instances): from descriptions.
     for (const auto& [id, d] : planes) {
-        BodyView b;
-        b.id = id;
-        b.position = std::get<SectorPosition>(d.position);
-        if (!follows(b.position.sector)) continue;
-        b.orientation = d.orientation;
-        b.global = grid->to_global(b.position);
-        out.bodies.push_back(b);
+        if (follows(std::get<SectorPosition>(d.position).sector)) out.bodies.push_back(view_of(id, d));
     }
     std::sort(out.bodies.begin(), out.bodies.end(),
               [](const BodyView& a, const BodyView& b) { return a.id < b.id; });
@@ -412,7 +485,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         s.apply_until(show);
         s.applied = show;
         s.unconfirmed.clear();  // complete() found each of them held
-        out.push_back(s.frame_view(show));
+        out.push_back(s.options.content == FrameContent::changes ? s.changes_view(show) : s.frame_view(show));
     }
     for (auto it = s.marks.begin(); it != s.marks.end();)
         it = it->first.second <= s.applied ? s.marks.erase(it) : std::next(it);

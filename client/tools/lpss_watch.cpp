@@ -6,10 +6,14 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <unordered_map>
 
 #include "lpss/client/client.hpp"
+#include "lpss/common/process_memory.hpp"
 #include "lpss/common/state_csv.hpp"
+#include "stop_signal.hpp"
 
 namespace {
 
@@ -28,6 +32,30 @@ lpss::Expected<lpss::Region> parse_region(const std::string& text) {
     return lpss::Region{{v[0], v[2], v[4]}, {v[1], v[3], v[5]}};
 }
 
+/// The bodies followed and how many are awake, kept from frames of changes.
+struct Counts {
+    std::unordered_map<lpss::BodyId, bool> awake;
+    std::size_t awake_count = 0;
+    void take(const lpss::WorldFrame& f) {
+        if (f.every_body) {
+            awake.clear();
+            awake_count = 0;
+        }
+        for (const lpss::BodyView& b : f.bodies) {
+            auto [at, added] = awake.emplace(b.id, b.awake);
+            if (!added) awake_count -= at->second ? 1 : 0;
+            at->second = b.awake;
+            awake_count += b.awake ? 1 : 0;
+        }
+        for (lpss::BodyId id : f.departed) {
+            auto at = awake.find(id);
+            if (at == awake.end()) continue;
+            awake_count -= at->second ? 1 : 0;
+            awake.erase(at);
+        }
+    }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,6 +73,8 @@ int main(int argc, char** argv) {
     app.add_option("--frames", frames, "exit after this many frames (0: until Ctrl-C)");
     app.add_option("--wait-s", wait_s, "how long to wait for a cluster");
     CLI11_PARSE(app, argc, argv);
+    // Printing needs only what changed (the counts are kept here); CSV writes every body of every frame.
+    options.content = csv_path.empty() ? lpss::FrameContent::changes : lpss::FrameContent::every_body;
     if (!region.empty()) {
         auto r = parse_region(region);
         if (!r) {
@@ -74,9 +104,12 @@ int main(int argc, char** argv) {
     }
     const lpss::SectorGrid grid = *(*client)->grid();
     std::uint64_t seen = 0;
+    Counts world;
     auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(2);
     auto last_data = std::chrono::steady_clock::now();
-    while (frames == 0 || seen < frames) {
+    // Ctrl-C or SIGTERM end the watch as the last frame does: the memory line still comes.
+    const std::atomic<bool>& stop = lpss::runtime::install_stop_signal();
+    while ((frames == 0 || seen < frames) && !stop.load()) {
         std::vector<lpss::WorldFrame> got = (*client)->poll(std::chrono::milliseconds(100));
         if (!got.empty()) last_data = std::chrono::steady_clock::now();
         if (std::chrono::steady_clock::now() - last_data > std::chrono::seconds(wait_s)) {
@@ -84,6 +117,7 @@ int main(int argc, char** argv) {
             break;
         }
         for (const lpss::WorldFrame& f : got) {
+            if (frames != 0 && seen >= frames) break;
             ++seen;
             if (csv) {
                 for (const lpss::BodyView& b : f.bodies) {
@@ -91,12 +125,14 @@ int main(int argc, char** argv) {
                         b.id, b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.awake};
                     lpss::write_state_csv_row(csv, f.frame, s, grid);
                 }
-            } else if (std::chrono::steady_clock::now() - last_print > std::chrono::seconds(1)) {
+                continue;
+            }
+            world.take(f);
+            if (std::chrono::steady_clock::now() - last_print > std::chrono::seconds(1)) {
                 last_print = std::chrono::steady_clock::now();
-                std::size_t awake = 0;
-                for (const auto& b : f.bodies)
-                    awake += b.awake ? 1 : 0;
-                fmt::print("frame {:>8}  bodies {:>7}  awake {:>7}\n", f.frame, f.bodies.size(), awake);
+                fmt::print("frame {:>8}  bodies {:>7}  awake {:>7}  changed {:>7}\n", f.frame,
+                           world.awake.size(), world.awake_count,
+                           f.every_body ? world.awake.size() : f.bodies.size());
                 for (std::size_t n = 0; n < std::min<std::size_t>(f.bodies.size(), 5); ++n) {
                     const auto& b = f.bodies[n];
                     fmt::print("    {:>8} x=({:.6f}, {:.6f}, {:.6f}) sector ({}, {}, {})\n", b.id,
@@ -105,9 +141,14 @@ int main(int argc, char** argv) {
                 }
                 std::fflush(stdout);
             }
-            if (frames != 0 && seen >= frames) break;
         }
     }
     if (csv && csv != stdout) std::fclose(csv);
+    if (const std::optional<lpss::MemoryUse> memory = lpss::memory_use()) {
+        std::fprintf(stderr, "lpss-watch: %llu frames; memory %.0f MiB resident, %.0f MiB at most\n",
+                     static_cast<unsigned long long>(seen),
+                     static_cast<double>(memory->resident_bytes) / 1048576.0,
+                     static_cast<double>(memory->peak_bytes) / 1048576.0);
+    }
     return 0;
 }

@@ -90,10 +90,15 @@ struct ClusterRun {
     double held_share = 0;                       ///< bodies and ghosts of the busiest worker, over all bodies
     double step_max_ms = 0, publish_max_ms = 0;  ///< per frame, mean over frames, the busiest worker
     std::string memory;                          ///< lpss-cluster's memory line
+    double coordinator_mib = 0, first_worker_mib = 0;  ///< resident at the last frame
+    /// A whole-world client of changes (lpss-watch) beside the cluster, if asked for: its memory at the
+    /// end, and the frames it returned.
+    double client_mib = 0, client_peak_mib = 0, client_frames = 0;
 };
 
 ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, int workers,
-                       std::uint64_t frames, int domain, const std::filesystem::path& logs) {
+                       std::uint64_t frames, int domain, const std::filesystem::path& logs,
+                       bool with_client) {
     auto participant = dds::Participant::create(domain, "", "lpss-bench");
     if (!participant) throw std::runtime_error(participant.error().message);
     dds::Participant& p = **participant;
@@ -101,6 +106,15 @@ ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, i
     auto marks_in = std::make_unique<dds::Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(dds::kFrameDelivery),
         &inbox);
+    std::optional<runtime::ChildProcess> watch;
+    if (with_client) {
+        // There before the cluster, as a client waiting for the world; it counts frames to the last.
+        watch = runtime::ChildProcess::start(
+            LPSS_WATCH_PROGRAM,
+            {"--domain", std::to_string(domain), "--frames", std::to_string(frames), "--wait-s", "600"},
+            (logs / "lpss-watch.out").string());
+        if (!watch) throw std::runtime_error("cannot start lpss-watch");
+    }
     const auto launched = Clock::now();
     auto cluster = runtime::ChildProcess::start(
         LPSS_CLUSTER_PROGRAM,
@@ -159,7 +173,19 @@ ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, i
     for (const auto& [w, m] : marks.rbegin()->second)
         r.held_share = std::max(r.held_share,
                                 static_cast<double>(m.bodies() + m.ghosts()) / static_cast<double>(bodies));
+    if (watch) {
+        // It ends after the last frame, or gives up once frames stop coming (those it missed never come).
+        watch->wait(std::chrono::seconds(20));
+        watch->stop();
+        const std::string watched = read_text(logs / "lpss-watch.out");
+        r.client_frames = find_number(watched, R"(lpss-watch: ([0-9]+) frames;)");
+        r.client_mib = find_number(watched, R"(memory ([0-9.]+) MiB resident)");
+        r.client_peak_mib = find_number(watched, R"(([0-9.]+) MiB at most)");
+    }
     const std::string text = read_text(logs / "cluster.out");
+    r.coordinator_mib =
+        find_number(text, R"(memory at frame [0-9]+: [0-9.]+ MiB resident \(coordinator ([0-9.]+))");
+    r.first_worker_mib = find_number(text, R"(memory at frame [0-9]+: [^\n]*worker 1 ([0-9.]+))");
     r.rss_mib = find_number(text, R"(memory at frame [0-9]+: ([0-9.]+) MiB resident)");
     r.peak_mib = find_number(text, R"(\), ([0-9.]+) MiB at most)");
     std::smatch line;
@@ -201,6 +227,10 @@ void run_cluster_scale(const Context& context) {
     const std::uint64_t frames = context.quick ? 120 : 300;
     int domain = 170;
     std::string memory_lines;
+    struct Held {  // resident MiB at each size
+        std::vector<double> sizes, sim, worker, coordinator, client;
+    } held;
+    Table clients({"bodies", "frames_seen", "frames", "client_rss_mib", "client_peak_mib", "ms_per_frame"});
     for (std::size_t n : sizes) {
         // Scenes and logs go to a folder of this run's own (a million bodies is 150 MB of text).
         const std::filesystem::path logs =
@@ -216,7 +246,12 @@ void run_cluster_scale(const Context& context) {
             progress(fmt::format("cluster-scale: {} bodies on {} worker(s)", n, workers));
             const std::filesystem::path run_logs = logs / fmt::format("workers-{}", workers);
             std::filesystem::create_directories(run_logs);
-            const ClusterRun c = run_cluster(scene, n + moving + 1, workers, frames, domain++, run_logs);
+            const ClusterRun c =
+                run_cluster(scene, n + moving + 1, workers, frames, domain++, run_logs, false);
+            if (workers == 1) {
+                held.coordinator.push_back(c.coordinator_mib);
+                held.worker.push_back(c.first_worker_mib);
+            }
             memory_lines += fmt::format("- {} bodies, {} worker(s): {}\n", n, workers, c.memory);
             table.add({std::to_string(n),
                        std::to_string(workers),
@@ -239,8 +274,32 @@ void run_cluster_scale(const Context& context) {
                        num(c.step_max_ms, 4),
                        num(c.publish_max_ms, 4)});
         }
+        // A whole-world client of changes beside 2 workers: what a client holds, and whether it keeps up.
+        progress(fmt::format("cluster-scale: {} bodies on 2 workers, with a whole-world client", n));
+        const std::filesystem::path client_logs = logs / "client";
+        std::filesystem::create_directories(client_logs);
+        const ClusterRun c = run_cluster(scene, n + moving + 1, 2, frames, domain++, client_logs, true);
+        held.sizes.push_back(static_cast<double>(n + moving + 1));
+        held.sim.push_back(sim.rss_mib);
+        held.client.push_back(c.client_mib);
+        clients.add({std::to_string(n), num(c.client_frames, 4), std::to_string(frames), num(c.client_mib, 5),
+                     num(c.client_peak_mib, 5), num(c.mean_ms, 4)});
         if (!context.keep) std::filesystem::remove_all(logs);
     }
+    // Per body: the slope of resident memory from the smallest world to the largest (what a body adds),
+    // and what the process holds with no body (the intercept).
+    Table per_body({"process", "bytes_per_body", "fixed_mib", "resident_mib_at_largest"});
+    auto slope = [&](const std::string& name, const std::vector<double>& mib) {
+        if (mib.size() < 2) return;
+        const double dn = held.sizes.back() - held.sizes.front();
+        const double per = (mib.back() - mib.front()) * 1048576.0 / dn;
+        per_body.add({name, num(per, 4), num(mib.front() - per * held.sizes.front() / 1048576.0, 3),
+                      num(mib.back(), 5)});
+    };
+    slope("lpss-sim (the whole world)", held.sim);
+    slope("worker holding the whole world (1 worker)", held.worker);
+    slope("coordinator", held.coordinator);
+    slope("whole-world client of changes (lpss-watch)", held.client);
     const std::string md =
         fmt::format(
             "scenes::resting_world: N resting bodies of five shapes, 3 units apart on a ground plane, "
@@ -256,7 +315,14 @@ void run_cluster_scale(const Context& context) {
             "of the worker holding most, over the world's bodies. step_ms_max, publish_ms_max: the "
             "busiest worker's engine step and sample writing per frame.\n\n",
             moving, frames) +
-        table.markdown() + "\nMemory of each process (resident, and at most):\n\n" + memory_lines;
+        table.markdown() + "\nMemory of each process (resident, and at most):\n\n" + memory_lines +
+        "\nA whole-world client beside 2 workers (lpss-watch: lpss::Client with FrameContent::changes, "
+        "started before the cluster): the frames it returned of those the cluster ran, its memory at the "
+        "end, and the cluster's ms per frame with it there.\n\n" +
+        clients.markdown() +
+        "\nMemory per body: the slope of each process's resident memory from the smallest world to the "
+        "largest, and the intercept (what it holds with no body: DDS, code, pools).\n\n" +
+        per_body.markdown();
     const std::string plot =
         R"(set multiplot layout 2,2 title 'A world at rest: lpss-cluster against lpss-sim'
 set logscale x

@@ -72,12 +72,13 @@ inline ClusterRun start_cluster(const std::string& scene, int domain, int worker
 }
 
 /// A client on `domain`, waiting for a cluster.
-inline std::unique_ptr<Client> connect(int domain, const std::string& name,
-                                       std::optional<Region> region = {}) {
+inline std::unique_ptr<Client> connect(int domain, const std::string& name, std::optional<Region> region = {},
+                                       FrameContent content = FrameContent::every_body) {
     ClientOptions o;
     o.domain = domain;
     o.name = name;
     o.region = region;
+    o.content = content;
     auto client = Client::connect(o);
     if (!client) {
         ADD_FAILURE() << client.error().message;

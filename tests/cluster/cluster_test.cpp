@@ -597,6 +597,99 @@ TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
     cluster.process->stop();
 }
 
+TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
+    // 3,000 resting bodies and 60 balls thrown among them, on 2 workers: a client of every body, and two
+    // clients of changes (the whole world, and a region the balls cross). Rebuilt from the changes, the
+    // world at each frame both saw is exactly the frame of every body (filtered by the region).
+    Scene scene = scenes::resting_world(3000, 60);
+    // And balls rolling along the region's edge across its border, out of it and into it, beside the
+    // resting bodies (which end at |z| = 83).
+    for (int n = 0; n < 6; ++n) {
+        const bool out = n < 3;
+        BodyDesc ball =
+            scenes::sphere_body(10000 + n, 0.4, 1.0, Eigen::Vector3d(out ? -60 : 100, 0.4, -90 + 2 * n));
+        ball.linear_velocity = Eigen::Vector3d(out ? 25 : -25, 0, 0);
+        scene.bodies.push_back(ball);
+    }
+    const int domain = 136;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "changes");
+    auto every = connect(domain, "every-body");
+    auto changes = connect(domain, "changes", std::nullopt, FrameContent::changes);
+    const Region region{{-1, -1, -1}, {0, 1, 0}};
+    auto regional = connect(domain, "regional-changes", region, FrameContent::changes);
+    ASSERT_TRUE(every && changes && regional);
+    auto cluster = start_cluster(path, domain, 2, 300, {"--realtime"});
+    ASSERT_TRUE(cluster.process);
+    struct Rebuilt {
+        std::map<BodyId, BodyView> bodies;
+        std::map<std::uint64_t, std::map<BodyId, BodyView>> at;  // the world after each frame seen
+        std::size_t frames = 0, changed = 0, whole = 0, departed = 0;
+        void take(WorldFrame& f) {
+            if (f.every_body) {
+                bodies.clear();
+                ++whole;
+            }
+            for (const BodyView& b : f.bodies)
+                bodies[b.id] = b;
+            for (BodyId id : f.departed)
+                bodies.erase(id);
+            departed += f.departed.size();
+            changed += f.every_body ? 0 : f.bodies.size();
+            ++frames;
+            at[f.frame] = bodies;
+        }
+    } whole_world, in_region;
+    std::map<std::uint64_t, WorldFrame> seen;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while ((seen.empty() || seen.rbegin()->first < 300) && std::chrono::steady_clock::now() < end) {
+        for (WorldFrame& f : every->poll(std::chrono::milliseconds(5)))
+            seen[f.frame] = std::move(f);
+        for (WorldFrame& f : changes->poll())
+            whole_world.take(f);
+        for (WorldFrame& f : regional->poll())
+            in_region.take(f);
+    }
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    std::size_t compared = 0, compared_region = 0;
+    auto same = [](const BodyView& a, const BodyView& b) {
+        return a.id == b.id && a.position.sector == b.position.sector &&
+               a.position.local == b.position.local && a.orientation.coeffs() == b.orientation.coeffs() &&
+               a.linear_velocity == b.linear_velocity && a.awake == b.awake;
+    };
+    for (const auto& [f, frame] : seen) {
+        if (auto it = whole_world.at.find(f); it != whole_world.at.end()) {
+            ++compared;
+            ASSERT_EQ(it->second.size(), frame.bodies.size()) << "frame " << f;
+            for (const BodyView& b : frame.bodies)
+                ASSERT_TRUE(it->second.count(b.id) && same(it->second.at(b.id), b))
+                    << "body " << b.id << " frame " << f;
+        }
+        if (auto it = in_region.at.find(f); it != in_region.at.end()) {
+            ++compared_region;
+            std::size_t inside = 0;
+            for (const BodyView& b : frame.bodies) {
+                if (!region.contains(b.position.sector)) continue;
+                ++inside;
+                ASSERT_TRUE(it->second.count(b.id) && same(it->second.at(b.id), b))
+                    << "body " << b.id << " in the region, frame " << f;
+            }
+            ASSERT_EQ(it->second.size(), inside) << "frame " << f;
+        }
+    }
+    std::printf(
+        "%zu frames compared (whole world), %zu (region); the whole-world client of changes got %zu frames, "
+        "%zu whole, %.1f bodies per frame after the first\n",
+        compared, compared_region, whole_world.frames, whole_world.whole,
+        whole_world.frames > 1 ? static_cast<double>(whole_world.changed) / (whole_world.frames - 1) : 0.0);
+    EXPECT_GE(compared, 150u);
+    EXPECT_GE(compared_region, 150u);
+    EXPECT_EQ(whole_world.whole, 1u) << "one frame of every body, then changes";
+    EXPECT_GT(in_region.departed, 0u) << "bodies left the region";
+    // What moves is the balls and what they hit, not the 3,000 resting bodies.
+    EXPECT_LT(whole_world.changed, whole_world.frames * 600) << "changes cost what moves";
+}
+
 TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
     Scene scene;
     scene.settings.sector_size = kL;

@@ -28,11 +28,18 @@ struct Region {
     }
 };
 
+/// What each frame a client returns holds.
+enum class FrameContent {
+    every_body,  ///< every body of the region: simple, and costs per frame what the region holds
+    changes,     ///< what changed since the frame before (the first frame: every body); costs what moves
+};
+
 struct ClientOptions {
     int domain = 0;
     std::string profile;           ///< Fast DDS XML profile; empty: the built-in local one
     std::string name = "client";   ///< names this client's commands
     std::optional<Region> region;  ///< follow only these sectors (filtered by DDS); the whole world if empty
+    FrameContent content = FrameContent::every_body;
 };
 
 /// One body in a frame.
@@ -46,10 +53,14 @@ struct BodyView {
     bool awake = false;
 };
 
-/// Every body (of the region) after one frame, ordered by id.
+/// A frame: every body of the region, ordered by id; or, with FrameContent::changes, the bodies that
+/// moved, woke, fell asleep or arrived since the frame returned before (ordered by id; maybe a few that did
+/// not change) and the ids of those that left the region or the world.
 struct WorldFrame {
     std::uint64_t frame = 0;
     std::vector<BodyView> bodies;
+    std::vector<BodyId> departed;  ///< with FrameContent::changes: gone since the frame before
+    bool every_body = true;        ///< `bodies` holds every body of the region (a first frame of changes)
 };
 
 /// What became of a command.
