@@ -21,6 +21,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "lpss/common/expected.hpp"
 
@@ -75,21 +77,48 @@ private:
     int next_filter_ = 0;
 };
 
+/// Asserts a writer's liveliness every `period` from a thread of its own, for as long as it exists: a
+/// writer with a lease (topics.hpp) stays alive to its readers while the process runs and reaches them,
+/// whatever its main thread is doing (building a large world takes seconds).
+class LivelinessBeat {
+public:
+    LivelinessBeat(fdds::DataWriter* writer, std::chrono::milliseconds period);
+    ~LivelinessBeat();
+    LivelinessBeat(const LivelinessBeat&) = delete;
+    LivelinessBeat& operator=(const LivelinessBeat&) = delete;
+
+private:
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool stop_ = false;
+    std::thread thread_;
+};
+
 /// Wakes a waiting thread when any reader attached to it has data.
 class Inbox : public fdds::DataReaderListener {
 public:
     void on_data_available(fdds::DataReader*) override;
     void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& status) override;
+    void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override;
     /// Waits until data arrived since the last call, or the timeout passed. True when data arrived.
     bool wait(std::chrono::milliseconds timeout);
     /// Wakes the waiting thread without data (to stop it).
     void poke();
     int matched_writers() const { return matched_.load(); }
+    /// A writer's liveliness changed (readers that ask for a lease: topics.hpp): it is alive again, or it
+    /// stopped asserting it. By publication handle (SampleInfo::publication_handle of its samples).
+    struct Liveliness {
+        fdds::InstanceHandle_t writer;
+        bool alive = false;
+    };
+    /// The changes since the last call, in order.
+    std::vector<Liveliness> take_liveliness();
 
 private:
     std::mutex mutex_;
     std::condition_variable cv_;
     bool pending_ = false;
+    std::vector<Liveliness> liveliness_;
     std::atomic<int> matched_{0};
 };
 
@@ -139,6 +168,7 @@ public:
           reader_(participant.subscriber()->create_datareader(
               topic, qos, inbox,
               inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
+                                << fdds::StatusMask::liveliness_changed()
                     : fdds::StatusMask::none())) {}
     ~Reader() {
         if (reader_) participant_.subscriber()->delete_datareader(reader_);

@@ -22,6 +22,10 @@ struct Delivery {
     bool durable = false;   ///< TRANSIENT_LOCAL: a late joiner gets the last sample of every instance
     int depth = 1;          ///< KEEP_LAST depth per instance
     bool disposes = false;  ///< instances are disposed (see with_delivery in participant.cpp)
+    /// > 0: writers' liveliness is asserted by their participant (LivelinessBeat, participant.hpp) within
+    /// this lease, in milliseconds, and readers ask for it: a reader learns within the lease that a writer
+    /// is gone (killed, or cut off).
+    int lease_ms = 0;
 };
 
 /// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
@@ -37,6 +41,10 @@ inline constexpr Delivery kDescriptionReading{true, 1, true};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};
+/// A worker's marks, as the workers write them and the coordinator reads them: they carry the worker's
+/// liveliness, so that a worker killed or cut off is found within the lease (0.4 s), not after seconds of
+/// silence. Other readers of the marks ask for no lease and match the coordinator's marks too.
+inline constexpr Delivery kWorkerMarks{true, 8, false, 400};
 /// Commands and sector requests: volatile, deep enough for bursts.
 inline constexpr Delivery kCommandDelivery{false, 256};
 /// Command results: durable, the last 256 per client (results are keyed by client), so that a client

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <utility>
 
 #include "lpss_dds/sector_filters.hpp"
 #include "lpss_dds/topics.hpp"
@@ -120,12 +121,44 @@ fdds::TopicDescription* Participant::sector_recipient(const std::string& frames_
     return filtered(frames_topic, kRecipientFilterClass, {std::to_string(worker)});
 }
 
+LivelinessBeat::LivelinessBeat(fdds::DataWriter* writer, std::chrono::milliseconds period)
+    : thread_([this, writer, period] {
+          std::unique_lock<std::mutex> lock(mutex_);
+          while (!stop_) {
+              writer->assert_liveliness();
+              cv_.wait_for(lock, period, [this] { return stop_; });
+          }
+      }) {}
+
+LivelinessBeat::~LivelinessBeat() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+}
+
 void Inbox::on_data_available(fdds::DataReader*) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         pending_ = true;
     }
     cv_.notify_all();
+}
+
+void Inbox::on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) {
+    if (status.not_alive_count_change == 0 && status.alive_count_change == 0) return;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        liveliness_.push_back({status.last_publication_handle, status.not_alive_count_change <= 0});
+    }
+    on_data_available(nullptr);
+}
+
+std::vector<Inbox::Liveliness> Inbox::take_liveliness() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::exchange(liveliness_, {});
 }
 
 void Inbox::on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& status) {
@@ -154,6 +187,13 @@ Qos with_delivery(Qos q, const Delivery& d) {
     q.resource_limits().max_samples = 0;                     // 0: unlimited
     q.resource_limits().max_samples_per_instance = d.depth;  // 0 would mean one
     q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    if (d.lease_ms > 0) {
+        // Asserted writer by writer (LivelinessBeat). Not AUTOMATIC or MANUAL_BY_PARTICIPANT: a Fast DDS 2.9
+        // reader takes word from any writer of those kinds as word from all of them
+        // (LivelinessManager::assert_liveliness), so a killed worker stayed alive while the others wrote.
+        q.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+        q.liveliness().lease_duration = eprosima::fastrtps::Duration_t(d.lease_ms / 1000.0);
+    }
     q.durability().kind = d.durable ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     q.history().depth = d.depth;

@@ -13,6 +13,7 @@
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
+#include "lost_frame.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
@@ -29,6 +30,40 @@ using Clock = std::chrono::steady_clock;
 constexpr double kRebalanceGain = 0.85;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Starts frames at the scene's rate. After a pause (a worker gone, a slow frame) it goes on at that rate
+/// from where it is, rather than starting frames back to back until it has caught up on the wall time lost:
+/// a burst of frames would be a burst of motion for anyone watching in real time. A lag of a few frames is
+/// made up (jitter), more is let go, logged, and counted.
+class RealtimePacer {
+public:
+    RealtimePacer(Clock::time_point start, double dt) : origin_(start), dt_(dt) {}
+    void pace(std::uint64_t frame) {
+        const auto due = origin_ + std::chrono::duration_cast<Clock::duration>(
+                                       std::chrono::duration<double>(double(frame - first_) * dt_));
+        const auto now = Clock::now();
+        const double late = std::chrono::duration<double>(now - due).count();
+        if (late <= kCatchUpFrames * dt_) {
+            std::this_thread::sleep_until(due);
+            return;
+        }
+        lost_ += late;
+        origin_ = now;
+        first_ = frame;
+        if (late > 0.1)
+            spdlog::warn("coordinator: frame {} starts {:.2f} s late; real time goes on from here ({:.2f} s "
+                         "lost in all)",
+                         frame, late, lost_);
+    }
+    double lost_seconds() const { return lost_; }
+
+private:
+    static constexpr double kCatchUpFrames = 3.0;
+    Clock::time_point origin_;
+    double dt_;
+    std::uint64_t first_ = 1;
+    double lost_ = 0.0;
+};
 
 }  // namespace
 
@@ -68,6 +103,8 @@ struct Coordinator::State {
     std::set<std::uint32_t> live;
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
+    std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
+    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
     /// The load of each block with bodies, as its owner last reported it. A worker's report replaces what
     /// it reported before: a block it no longer reports has emptied, or another worker reports it.
     struct ReportedLoad {
@@ -77,8 +114,12 @@ struct Coordinator::State {
     std::map<SectorKey, ReportedLoad> block_loads;
     std::vector<wire::Handoff> grants;     ///< for the next frame
     std::vector<wire::Handoff> in_flight;  ///< granted with the last frame started
+    std::vector<wire::Handoff> stood_in;   ///< requests of a gone worker's lost frame, stepped here
+    std::set<std::uint32_t> gone_after_ending;  ///< gone after ending the frame: its requests stand
     std::vector<wire::Command> commands;   ///< accepted, for the next frame
     std::vector<std::uint64_t> command_order;
+    std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
+    std::vector<std::uint64_t> command_order_in_flight;
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
@@ -89,12 +130,20 @@ struct Coordinator::State {
     void status(const std::string& phase, double progress, std::uint64_t bodies);
     Status load_and_seed(const std::atomic<bool>& stop);
     void pump();
-    void take_samples(std::uint64_t up_to);
+    /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
+    void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
+    /// A complete sample of a sector as the copy of the world holds it, as worker 0.
+    wire::SectorFrame whole_from_mirror(const SectorKey& key, std::uint64_t f) const;
+    void gone(std::uint32_t w, std::uint64_t f, const char* why);
+    void send_restored(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh,
+                       const std::set<SectorKey>& keys, Clock::time_point started);
     void accept_commands();
     void refuse(const wire::Command& c, const std::string& reason);
     bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
     void collect_handoffs(std::uint64_t f);
-    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh);
+    /// Sends the sectors of a worker that is gone, as of frame f, to their holders under `fresh`; when it did
+    /// not finish frame f (`unfinished`), that frame is stepped again here first.
+    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh, bool unfinished);
     SectorAssignment balanced() const;
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
@@ -150,7 +199,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
     state->marks_in =
-        std::make_unique<Reader<wire::WorkerFrame>>(p, marks, reader_qos(kFrameDelivery), &state->inbox);
+        std::make_unique<Reader<wire::WorkerFrame>>(p, marks, reader_qos(kWorkerMarks), &state->inbox);
     state->commands_in = std::make_unique<Reader<wire::Command>>(
         p, p.topic<wire::CommandPubSubType>(kCommands), reader_qos(kCommandDelivery), &state->inbox);
     state->sectors_in = std::make_unique<Reader<wire::SectorFrame>>(
@@ -202,6 +251,7 @@ void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || m.worker() == 0) return;
         last_heard[m.worker()] = Clock::now();
+        writer_of[info.publication_handle] = m.worker();
         if (m.loads_reported()) {
             for (auto it = block_loads.begin(); it != block_loads.end();)
                 it = it->second.worker == m.worker() ? block_loads.erase(it) : std::next(it);
@@ -215,15 +265,29 @@ void Coordinator::State::pump() {
         if (!info.valid_data || f.worker() == 0) return;
         if (chain.accept(f)) samples[f.frame()].push_back(f);
     });
+    // A worker whose lease expired and that came back before it was taken as gone (a late beat on a loaded
+    // machine) stays.
+    for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
+        auto worker = writer_of.find(change.writer);
+        if (worker == writer_of.end()) continue;
+        if (change.alive) {
+            lost.erase(worker->second);
+        } else {
+            lost.insert(worker->second);
+            spdlog::warn("coordinator: worker {} missed its liveliness lease", worker->second);
+        }
+    }
 }
 
-void Coordinator::State::take_samples(std::uint64_t up_to) {
+void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also) {
     std::vector<const wire::SectorFrame*> batch;
     const auto end = samples.upper_bound(up_to);
     for (auto it = samples.begin(); it != end; ++it) {
         for (const wire::SectorFrame& f : it->second)
             batch.push_back(&f);
     }
+    for (const wire::SectorFrame& f : also)
+        batch.push_back(&f);
     mirror.apply(batch);
     samples.erase(samples.begin(), end);
     chain.forget_applied(up_to);
@@ -341,6 +405,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         radii.clear();
         sectors_out->write(sample);
         mirror.apply({&sample});
+        chain.accept(sample);  // the base of the workers' first samples of the sector
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());
@@ -444,10 +509,15 @@ void Coordinator::State::accept_commands() {
 }
 
 bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop) {
-    // Every live worker's end of frame f. A worker silent for too long is taken as gone: its sectors go to
-    // the others, restored from what it last published.
+    // Every live worker's end of frame f. A worker whose liveliness lease expired (killed, or cut off), or
+    // that is silent for too long (alive but stuck), is taken as gone: the frame it did not finish is
+    // stepped here, and its sectors go to the others.
     for (;;) {
         pump();
+        for (std::uint32_t w : std::set<std::uint32_t>(live)) {
+            if (lost.count(w)) gone(w, f, "its liveliness lease expired");
+        }
+        if (live.empty()) return false;
         bool all = true;
         for (std::uint32_t w : live)
             all = all && marks.count({w, f});
@@ -458,57 +528,135 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
             // Silence counts from the frame's start (or the last word, if later); the first frame may take
             // as long as the workers take to build the world.
             const auto since = std::max(last_heard[w], frame_started);
-            if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout)) {
-                spdlog::error(
-                    "coordinator: worker {} stopped answering at frame {}; its sectors go to the others", w,
-                    f);
-                live.erase(w);
-                if (live.empty()) return false;
-                SectorAssignment fresh = balanced();
-                fresh.epoch = next.epoch + 1;
-                fresh.from_frame = f + 1;
-                restore(w, f, fresh);
-                reassign(std::move(fresh), f + 1, "a worker is gone");
-            }
+            if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout))
+                gone(w, f, "it stopped answering");
         }
+        if (live.empty()) return false;
         inbox.wait(std::chrono::milliseconds(5));
     }
 }
 
-void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh) {
-    // Everything received up to the frame the worker did not finish, and the bodies handed to it at that
-    // frame (its sectors' samples may never show them), go to the sectors' new holders as of frame f.
-    take_samples(f);
-    for (const wire::Handoff& h : in_flight) {
-        if (h.to_worker() == gone) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
+void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why) {
+    const double into_frame = seconds_since(frame_started);
+    live.erase(w);
+    if (live.empty()) return;
+    SectorAssignment fresh = balanced();
+    fresh.epoch = next.epoch + 1;
+    fresh.from_frame = f + 1;
+    const bool unfinished = !marks.count({w, f});
+    if (unfinished) {
+        spdlog::error("coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its "
+                      "sectors go to the others",
+                      w, f, why, into_frame);
+    } else {
+        // It ended the frame before it went: its samples and requests of the frame stand.
+        gone_after_ending.insert(w);
+        spdlog::error("coordinator: worker {} is gone after ending frame {} ({}); its sectors go to the others",
+                      w, f, why);
     }
-    std::vector<SectorKey> keys;
+    restore(w, f, fresh, unfinished);
+    reassign(std::move(fresh), f + 1, "a worker is gone");
+}
+
+wire::SectorFrame Coordinator::State::whole_from_mirror(const SectorKey& key, std::uint64_t f) const {
+    wire::SectorFrame sample;
+    sample.sector(dds::to_wire(key));
+    sample.frame(f);
+    sample.base(f);
+    sample.worker(0);
+    sample.complete(true);
+    auto it = mirror.sectors().find(key);
+    if (it == mirror.sectors().end()) return sample;
+    for (const dds::SectorMirror::Body& body : it->second) {
+        sample.bodies().push_back(body.state);
+        sample.kinds().push_back(mirror.kind(body));
+    }
+    return sample;
+}
+
+void Coordinator::State::restore(std::uint32_t gone_worker, std::uint64_t f, const SectorAssignment& fresh,
+                                 bool unfinished) {
+    // The frame the worker did not finish, stepped here from the world as every body was last published
+    // (frame f - 1: everything received of it), with the handoffs and commands of frame f; then its
+    // sectors, at frame f, go to their new owners and holders.
+    const auto started = Clock::now();
+    std::set<SectorKey> keys, around;
+    if (!unfinished) {
+        take_samples(f);
+        for (const auto& [key, bodies] : mirror.sectors()) {
+            if (current.owner_of(key) == gone_worker) keys.insert(key);
+        }
+        send_restored(gone_worker, f, fresh, keys, started);
+        return;
+    }
+    take_samples(f - 1);
     for (const auto& [key, bodies] : mirror.sectors()) {
-        if (current.owner_of(key) == gone) keys.push_back(key);
+        if (current.owner_of(key) != gone_worker) continue;
+        keys.insert(key);
+        for (std::int64_t i = -1; i <= 1; ++i)
+            for (std::int64_t j = -1; j <= 1; ++j)
+                for (std::int64_t k = -1; k <= 1; ++k) {
+                    const SectorKey near = key + SectorKey{i, j, k};
+                    if (mirror.sectors().count(near)) around.insert(near);
+                }
     }
-    std::sort(keys.begin(), keys.end());
+    worker::LostFrameInput in;
+    in.settings = settings;
+    in.assignment = current;
+    in.largest_radius = largest_radius;
+    in.worker = gone_worker;
+    in.frame = f;
+    for (const SectorKey& key : around)
+        in.sectors.push_back(whole_from_mirror(key, f - 1));
+    for (const auto& [id, plane] : planes)
+        in.planes.push_back(plane);
+    in.handoffs = in_flight;
+    in.commands = commands_in_flight;
+    in.command_order = command_order_in_flight;
+    Expected<worker::LostFrame> lost_frame = worker::step_lost_frame(in);
+    in = {};
+    if (lost_frame) {
+        take_samples(f, lost_frame->sectors);
+        for (const wire::SectorFrame& s : lost_frame->sectors)
+            keys.insert(dds::from_wire(s.sector()));
+        for (const wire::CommandResult& r : lost_frame->results)
+            results_out->write(r);
+        stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
+        spdlog::info("coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} "
+                     "sectors around them, {:.3f} s",
+                     f, gone_worker, lost_frame->bodies, lost_frame->sectors.size(), around.size(),
+                     seconds_since(started));
+    } else {
+        // Its bodies lose frame f's motion: restored as last published, and those handed to it at frame f
+        // (its samples never showed them) from their grants.
+        spdlog::error("coordinator: the frame worker {} did not finish cannot be stepped again ({}); its "
+                      "bodies are restored as last published",
+                      gone_worker, lost_frame.error().message);
+        take_samples(f);
+        for (const wire::Handoff& h : in_flight) {
+            if (h.to_worker() == gone_worker) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
+        }
+    }
+    send_restored(gone_worker, f, fresh, keys, started);
+}
+
+void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t f, const SectorAssignment& fresh,
+                                       const std::set<SectorKey>& keys, Clock::time_point started) {
     wire::WorkerFrame restored;
     restored.worker(0);
     restored.frame(f);
     restored.epoch(fresh.epoch);
     std::size_t bodies = 0;
     for (const SectorKey& key : keys) {
-        wire::SectorFrame sample;
-        sample.sector(dds::to_wire(key));
-        sample.frame(f);
-        sample.base(f);
-        sample.worker(0);
+        wire::SectorFrame sample = whole_from_mirror(key, f);
         sample.epoch(fresh.epoch);
-        sample.complete(true);
         std::vector<double> radii;
-        for (const dds::SectorMirror::Body& body : mirror.sectors().at(key)) {
-            sample.bodies().push_back(body.state);
-            sample.kinds().push_back(mirror.kind(body));
-            radii.push_back(bounding_radius(dds::from_wire(sample.kinds().back()).shape));
-        }
+        for (const wire::BodyKind& kind : sample.kinds())
+            radii.push_back(bounding_radius(dds::from_wire(kind).shape));
         sample.recipients(recipients(key, sample.bodies(), radii, fresh));
         bodies += sample.bodies().size();
         sectors_out->write(sample);
+        chain.accept(sample);
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());
@@ -516,8 +664,9 @@ void Coordinator::State::restore(std::uint32_t gone, std::uint64_t f, const Sect
     }
     marks_out->write(restored);
     wrote_sectors = true;
-    spdlog::info("coordinator: {} bodies in {} sectors of worker {} restored as it last published them",
-                 bodies, keys.size(), gone);
+    spdlog::info("coordinator: {} bodies in {} sectors of worker {} sent to their new owners, {:.3f} s after it "
+                 "was found gone",
+                 bodies, keys.size(), gone_worker, seconds_since(started));
 }
 
 void Coordinator::State::collect_handoffs(std::uint64_t f) {
@@ -525,10 +674,8 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
     // under the assignment in force then.
     const SectorAssignment then = assignment_for(f + 1);
     std::set<BodyId> granted;
-    for (std::uint32_t w : live) {
-        auto it = marks.find({w, f});
-        if (it == marks.end()) continue;
-        for (wire::Handoff h : it->second.leaving()) {
+    auto grant = [&](const std::vector<wire::Handoff>& requests) {
+        for (wire::Handoff h : requests) {
             if (!statics.count(h.body()) || !granted.insert(h.body()).second) continue;
             const std::uint32_t to = then.owner_of(dds::from_wire(h.sector()));
             if (to == h.from_worker()) continue;
@@ -536,7 +683,16 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
             grants.push_back(h);
             ++handoffs;
         }
+    };
+    std::set<std::uint32_t> ended_frame = gone_after_ending;
+    ended_frame.insert(live.begin(), live.end());
+    for (std::uint32_t w : ended_frame) {
+        auto it = marks.find({w, f});
+        if (it != marks.end()) grant(it->second.leaving());
     }
+    grant(stood_in);
+    stood_in.clear();
+    gone_after_ending.clear();
     for (auto it = marks.begin(); it != marks.end();)
         it = it->first.second < f ? marks.erase(it) : std::next(it);
 }
@@ -585,6 +741,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
 
     const auto start = Clock::now();
     auto last_log = start;
+    RealtimePacer pacer(start, s.settings.dt);
     for (std::uint64_t f = 1;; ++f) {
         s.frame = f - 1;
         const bool finished = (o.frames > 0 && f > o.frames) || stop.load();
@@ -602,10 +759,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.handoffs(s.grants);
         go.commands(s.commands);
         go.command_sequence(s.command_order);
-        if (o.realtime)
-            std::this_thread::sleep_until(start +
-                                          std::chrono::duration_cast<Clock::duration>(
-                                              std::chrono::duration<double>((f - 1) * s.settings.dt)));
+        if (o.realtime) pacer.pace(f);
         s.go_out->write(go);
         // While the workers step: the copy of the world catches up with the frame before, off the path
         // from one frame's end to the next one's start.
@@ -619,8 +773,10 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             std::this_thread::sleep_for(std::chrono::milliseconds(300));
             return 0;
         }
-        s.in_flight = s.grants;
+        s.in_flight = std::move(s.grants);
         s.grants.clear();
+        s.commands_in_flight = std::move(s.commands);
+        s.command_order_in_flight = std::move(s.command_order);
         s.commands.clear();
         s.command_order.clear();
         s.wrote_sectors = false;

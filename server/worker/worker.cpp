@@ -11,6 +11,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "commands.hpp"
 #include "frame_gate.hpp"
 #include "halo.hpp"
 #include "handoff.hpp"
@@ -68,6 +69,7 @@ struct Worker::State {
     std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
     std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;
     std::unique_ptr<dds::Reader<wire::SectorRequest>> requests_in;
+    std::unique_ptr<dds::LivelinessBeat> beat;  ///< keeps its marks' lease
 
     std::optional<World> world;
     FrameGate gate;
@@ -121,6 +123,7 @@ Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
 Worker::~Worker() {
     // Endpoints go before the participant that made them.
     if (!state_) return;
+    state_->beat.reset();
     state_->frames_out.reset();
     state_->marks_out.reset();
     state_->results_out.reset();
@@ -144,7 +147,7 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     state->frames_out =
         std::make_unique<Writer<wire::SectorFrame>>(p, frames, writer_qos(kSectorFrameDelivery));
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(
-        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), writer_qos(kFrameDelivery));
+        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), writer_qos(kWorkerMarks));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kResultDelivery));
     // Only the samples addressed to this worker: its sectors and its halo's.
@@ -165,6 +168,9 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
         !state->requests_in->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
+    // Four times a lease: a late beat or two does not make a worker look gone.
+    state->beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(),
+                                                   std::chrono::milliseconds(kWorkerMarks.lease_ms / 4));
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
 }
 
@@ -288,46 +294,10 @@ void Worker::State::result(const wire::Command& c, std::uint64_t order, bool app
 }
 
 void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
-    World& w = *world;
-    switch (c.kind()) {
-        case wire::kCommandSpawn: {  // its owner adds it as its own, the workers holding its sector as a
-                                     // ghost
-            BodyDesc body = dds::from_wire(c.spawn());
-            if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-            Expected<SectorPosition> at = [&]() -> Expected<SectorPosition> {
-                if (const auto* g = std::get_if<Eigen::Vector3d>(&body.position))
-                    return w.grid().from_global(*g);
-                return w.grid().canonical(std::get<SectorPosition>(body.position));
-            }();
-            const bool mine = at && halo.owns(at->sector);
-            const bool held = is_plane(body.shape) || !at || mine || halo.holds(at->sector);
-            Status st = held ? w.add_body(body) : Status{};
-            if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
-            if (st.ok() && is_plane(body.shape)) planes.insert(body.id);
-            break;
-        }
-        case wire::kCommandRemove: {  // every worker removes its copy
-            // Every worker holds planes as its own: the owner of the plane's sector answers for it.
-            std::optional<BodySnapshot> before = w.body(c.body());
-            const bool mine = before && (planes.count(c.body()) ? halo.owns(before->position.sector)
-                                                                : !w.is_ghost(c.body()));
-            Status st = before ? w.remove_body(c.body()) : Status{};
-            if (mine) result(c, order, st.ok(), st.ok() ? "" : st.error().message);
-            if (st.ok()) planes.erase(c.body());
-            break;
-        }
-        case wire::kCommandImpulse:
-        case wire::kCommandSetVelocity: {  // the owner applies
-            if (!w.contains(c.body()) || w.is_ghost(c.body())) break;
-            const Eigen::Vector3d a = dds::from_wire(c.vector1()), b = dds::from_wire(c.vector2());
-            Status st = c.kind() == wire::kCommandImpulse ? w.apply_impulse(c.body(), a, b)
-                                                          : w.set_velocity(c.body(), a, b);
-            result(c, order, st.ok(), st.ok() ? "" : st.error().message);
-            break;
-        }
-        default:
-            break;  // refused by the coordinator already
-    }
+    const Holding holding{[this](const SectorKey& key) { return halo.owns(key); },
+                          [this](const SectorKey& key) { return halo.holds(key); }};
+    if (std::optional<Status> st = worker::apply_command(*world, c, holding, planes))
+        result(c, order, st->ok(), st->ok() ? "" : st->error().message);
 }
 
 void Worker::State::announce(const wire::FrameGo& go) {
