@@ -324,41 +324,46 @@ void run_cluster_scale(const Context& context) {
         "largest, and the intercept (what it holds with no body: DDS, code, pools).\n\n" +
         per_body.markdown();
     const std::string plot =
-        R"(set multiplot layout 2,2 title 'A world at rest: lpss-cluster against lpss-sim'
+        R"(set multiplot layout 2,2 title 'A world at rest: lpss-cluster against lpss-sim on the same scene (targets dotted)'
+set datafile missing NaN
 set logscale x
+set xrange [7000:1.5e6]
+set yrange [0:*]
 set xlabel 'bodies at rest'
-set key top left font ',8'
+set key top right font ',8'
 set grid
-set logscale y
-set ylabel 'seconds'
-set title 'Start: first frame'
-plot '$CSV' using 1:($2==1?$3:1/0) with linespoints pt 7 title '1 worker', \
-     '$CSV' using 1:($2==2?$3:1/0) with linespoints pt 5 title '2 workers', \
-     '$CSV' using 1:($2==4?$3:1/0) with linespoints pt 9 title '4 workers', \
-     '$CSV' using 1:($2==1?$4:1/0) with linespoints pt 4 dt 2 title 'lpss-sim load', \
-     '$CSV' using 1:($2==1?1.5*$4:1/0) with lines dt 3 lc rgb 'gray' title '1.5 x lpss-sim load'
+set ylabel 'first frame / lpss-sim load'
+set title 'Start: time to the first frame, over lpss-sim loading the scene'
+plot '$CSV' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$5:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'ms per frame'
 set title 'Running: mean (solid) and p99 (open)'
-plot '$CSV' using 1:($2==1?$6:1/0) with linespoints pt 7 lc 1 title '1 worker', \
-     '$CSV' using 1:($2==2?$6:1/0) with linespoints pt 5 lc 2 title '2 workers', \
-     '$CSV' using 1:($2==4?$6:1/0) with linespoints pt 9 lc 3 title '4 workers', \
-     '$CSV' using 1:($2==1?$7:1/0) with points pt 6 lc 1 title '1 worker p99', \
-     '$CSV' using 1:($2==2?$7:1/0) with points pt 4 lc 2 title '2 workers p99', \
-     '$CSV' using 1:($2==4?$7:1/0) with points pt 8 lc 3 title '4 workers p99', \
-     '$CSV' using 1:($2==1?$9:1/0) with points pt 12 lc 4 title 'lpss-sim p99', \
-     '$CSV' using 1:($2==1?$8:1/0) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
-     '$CSV' using 1:($2==1?$10:1/0) with lines dt 3 lc rgb 'gray' title 'budget 1.5 x lpss-sim + 1 ms'
-set ylabel 'MiB'
-set title 'Memory: all processes together'
-plot '$CSV' using 1:($2==1?$11:1/0) with linespoints pt 7 title '1 worker', \
-     '$CSV' using 1:($2==2?$11:1/0) with linespoints pt 5 title '2 workers', \
-     '$CSV' using 1:($2==4?$11:1/0) with linespoints pt 9 title '4 workers', \
-     '$CSV' using 1:($2==1?$12:1/0) with linespoints pt 4 dt 2 title 'lpss-sim', \
-     '$CSV' using 1:($2==1?1.5*$12:1/0) with lines dt 3 lc rgb 'gray' title '1.5 x lpss-sim'
+set key top left maxrows 3 width -4
+set offsets 0, 0, graph 0.35, 0
+plot '$CSV' using 1:($2==1?$6:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$6:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$6:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     '$CSV' using 1:($2==1?$7:NaN) with points pt 6 lc 1 title '1 worker p99', \
+     '$CSV' using 1:($2==2?$7:NaN) with points pt 4 lc 2 title '2 workers p99', \
+     '$CSV' using 1:($2==4?$7:NaN) with points pt 8 lc 3 title '4 workers p99', \
+     '$CSV' using 1:($2==1?$8:NaN) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
+     '$CSV' using 1:($2==1?$9:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
+     '$CSV' using 1:($2==1?$10:NaN) with lines dt 3 lc rgb 'black' title 'target 1.5 x sim + 1 ms'
+set key default
+set key top right font ',8'
+set offsets 0, 0, 0, 0
+set ylabel 'all processes / lpss-sim'
+set title 'Memory: resident, all processes together, over lpss-sim'
+plot '$CSV' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$13:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'kB per frame'
-set title 'Bytes a worker receives (busiest)'
-plot '$CSV' using 1:($2==2?$16/1000:1/0) with linespoints pt 5 title '2 workers', \
-     '$CSV' using 1:($2==4?$16/1000:1/0) with linespoints pt 9 title '4 workers'
+set title 'Bytes the busiest worker receives per frame'
+plot '$CSV' using 1:($2==2?$16/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$16/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
 unset multiplot
 )";
     publish(context, "cluster-scale", table, "cluster-scale: a world at rest, from 10^4 to 10^6 bodies", md,
