@@ -57,6 +57,11 @@ struct Client::State {
         std::optional<std::vector<std::pair<SectorKey, std::uint64_t>>> inventory;
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
+    /// The coordinator's mark of the world's first state (frame 0): a client there from the start follows
+    /// the world from it, without asking the workers for an inventory.
+    std::optional<std::vector<SectorKey>> first_state;
+    /// Workers whose hello (their mark of frame 0) came: their marks writer knows this client's reader.
+    std::set<std::uint32_t> hellos;
     std::uint64_t inventory_request = 0;        ///< 0: not asked yet
     bool synced = false;                        ///< the inventories are in: frames follow from `applied`
     std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
@@ -71,6 +76,11 @@ struct Client::State {
     const std::vector<std::uint32_t>* workers_of(std::uint64_t frame) const;
     void take();
     void ask_for_inventory();
+    /// Tells the coordinator once that this client reads every topic from every writer there is (a
+    /// coordinator started with --await-clients starts frame 1 then).
+    void say_ready();
+    std::uint64_t ready_request = 0;  ///< the request saying so; 0: not said yet
+    std::chrono::steady_clock::time_point ready_said;
     bool sync();
     bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const;
     /// The stamps as of `frame`, from the current ones and the marks after `applied`; false if a mark is
@@ -165,6 +175,15 @@ void Client::State::take() {
         plane_instances.erase(instance);
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data && m.frame() == 0 && m.worker() == 0) {
+            first_state.emplace();
+            for (const wire::WrittenSector& w : m.written()) {
+                const SectorKey key = dds::from_wire(w.sector());
+                if (follows(key)) first_state->push_back(key);
+            }
+            return;
+        }
+        if (info.valid_data && m.frame() == 0) hellos.insert(m.worker());
         if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
         Mark mark;
         for (const wire::WrittenSector& w : m.written()) {
@@ -202,6 +221,43 @@ void Client::State::take() {
     });
     ask_for_inventory();
     ask_for_whole_sectors();
+    say_ready();
+}
+
+void Client::State::say_ready() {
+    // Matched is not enough: a durable writer's history (the world's first state) may still be on its way,
+    // and a frame's partial samples would then arrive before their base.
+    if (ready_request != 0) {
+        // Said: the coordinator answers. A command written just after matching can be lost (the
+        // coordinator's reader may not have matched this writer yet, and a volatile reader takes nothing
+        // from before): said again until answered.
+        if (outcomes.count(ready_request) ||
+            std::chrono::steady_clock::now() - ready_said < std::chrono::milliseconds(500))
+            return;
+    }
+    if (!grid || workers_from.empty() || !first_state) return;
+    for (const SectorKey& key : *first_state) {
+        if (!chain.holds(key, 0, ~std::uint64_t{0})) return;
+    }
+    // Matched here is not matched there either: a writer that has not matched this reader yet sends it
+    // nothing, and its history keeps eight frames. A worker's hello, in its writer's history, shows that
+    // its marks writer has matched this client (seen: a worker's mark of frame 1 lost to a client that
+    // said it was ready).
+    for (std::uint32_t w : workers_from.rbegin()->second) {
+        if (!hellos.count(w)) return;
+    }
+    const int writers = static_cast<int>(workers_from.rbegin()->second.size()) + 1;  // workers, coordinator
+    if (commands_out->matched() < 1 || assignment_in->matched() < 1 || planes_in->matched() < 1 ||
+        marks_in->matched() < writers || frames_in->matched() < writers || results_in->matched() < writers ||
+        requests_out->matched() < writers - 1)
+        return;
+    if (ready_request == 0) ready_request = next_request++;
+    wire::Command ready;
+    ready.client(options.name);
+    ready.request(ready_request);
+    ready.kind(wire::kCommandReady);
+    commands_out->write(ready);
+    ready_said = std::chrono::steady_clock::now();
 }
 
 const std::vector<std::uint32_t>* Client::State::workers_of(std::uint64_t frame) const {
@@ -250,6 +306,24 @@ bool Client::State::sync() {
     // Every worker of the newest assignment has answered: the sectors it owns, each as of its stamp. Frames
     // start from the latest answer; the workers that answered earlier list what they wrote since.
     if (workers_from.empty()) return false;
+    if (const std::vector<std::uint32_t>* first = workers_of(1); first_state && first) {
+        // There from the start: every worker's mark of frame 1 is here, so nothing was written before this
+        // client read it. The world is the first state, and frames follow from frame 1.
+        bool from_start = true;
+        for (std::uint32_t w : *first)
+            from_start = from_start && marks.count({w, 1});
+        if (from_start) {
+            stamps.clear();
+            unconfirmed.clear();
+            for (const SectorKey& key : *first_state) {
+                stamps[key] = 0;
+                unconfirmed.insert(key);
+            }
+            applied = 0;
+            synced = true;
+            return true;
+        }
+    }
     const std::vector<std::uint32_t>& workers = workers_from.rbegin()->second;
     std::map<std::uint32_t, std::uint64_t> answered;
     for (const auto& [at, mark] : marks) {

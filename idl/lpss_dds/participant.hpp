@@ -152,10 +152,13 @@ public:
     fdds::DataWriter* raw() { return writer_; }
 
 private:
-    Participant& participant_;
-    fdds::DataWriter* writer_;
+    // The counters come before the writer: its listener may be called while it is being created (a reader
+    // known already), and a counter initialized after it would lose that match (seen: a client's commands
+    // writer that never counted the coordinator's reader).
     std::atomic<int> matched_{0};
     std::atomic<int> new_matches_{0};
+    Participant& participant_;
+    fdds::DataWriter* writer_;
 };
 
 /// A typed data reader that reports to an inbox.

@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1 << 20));
     app.add_option("--rebalance-every", rebalance_every,
                    "frames between load checks (0: never move sectors)");
+    std::uint32_t await_clients = 0;
+    app.add_option("--await-clients", await_clients,
+                   "frame 1 waits until this many clients have matched every topic they read");
     CLI11_PARSE(app, argc, argv);
 
     // The coordinator reads and checks the scene (reading it here too would double the start of a large
@@ -123,7 +126,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> args = common;
     args.insert(args.end(), {scene_path, "--workers", std::to_string(workers), "--frames",
                              std::to_string(frames), "--block-size", std::to_string(block_size),
-                             "--rebalance-every", std::to_string(rebalance_every)});
+                             "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
+                             std::to_string(await_clients)});
     if (realtime) args.push_back("--realtime");
     auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
     if (!coordinator) {

@@ -120,6 +120,7 @@ struct Coordinator::State {
     std::vector<std::uint64_t> command_order;
     std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
     std::vector<std::uint64_t> command_order_in_flight;
+    std::set<std::string> ready_clients;  ///< clients that matched every topic they read
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
@@ -417,6 +418,18 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     }
     marks_out->write(seeded);
     status("sending", 1.0, scene.bodies.size());
+    // A synchronization point: the clients asked for have matched every topic they read.
+    auto last_word = Clock::now();
+    while (ready_clients.size() < options.await_clients) {
+        if (stop.load()) return Error{"stopped"};
+        if (Clock::now() - last_word > std::chrono::seconds(5)) {
+            last_word = Clock::now();
+            spdlog::info("coordinator: frame 1 waits for {} client(s); {} ready", options.await_clients,
+                         ready_clients.size());
+        }
+        accept_commands();
+        inbox.wait(std::chrono::milliseconds(20));
+    }
     spdlog::info("coordinator: {} sectors sent to {} worker(s) in {:.2f} s", keys.size(), live.size(),
                  seconds_since(send_start));
     // The scene is in the workers' hands now: give its memory back.
@@ -471,6 +484,17 @@ void Coordinator::State::accept_commands() {
                                   "body id " + std::to_string(c.body()) + ": command vectors must be finite");
                 }
                 break;
+            case wire::kCommandReady: {
+                if (ready_clients.insert(c.client()).second)
+                    spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());
+                wire::CommandResult r;  // the client says it again until this comes
+                r.client(c.client());
+                r.request(c.request());
+                r.applied(true);
+                r.frame(frame + 1);
+                results_out->write(r);
+                return;
+            }
             default:
                 return refuse(c, "unknown command kind " + std::to_string(c.kind()));
         }

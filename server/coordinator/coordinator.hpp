@@ -26,6 +26,9 @@ struct CoordinatorOptions {
     double rebalance_threshold = 1.5;  ///< move sectors when the busiest worker has this times the mean load
     std::chrono::milliseconds worker_wait{30000};    ///< for the workers to appear
     std::chrono::milliseconds worker_timeout{5000};  ///< silence after which a worker is taken as gone
+    /// Frame 1 waits until this many clients (by name) have said they matched every topic they read: a
+    /// synchronization point, as HLA federations have, so that recorders miss nothing.
+    std::uint32_t await_clients = 0;
 };
 
 class Coordinator {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "cluster_harness.hpp"
 #include "lpssPubSubTypes.h"
@@ -529,6 +530,77 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     const double seconds = std::stod(text.substr(text.rfind(", ", into) + 2));
     EXPECT_LE(seconds, 0.6) << "found within the lease (and the frame it died in)";
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
+}
+
+TEST(Cluster, ARecorderAndAClientStartedBeforeTheClusterSeeFrameOne) {
+    // Started before the cluster, both are there when the world's first state is written: they follow it
+    // from frame 1 on, every frame. (Before, a reader asked the workers for an inventory and started from
+    // the frame that carried the answer: frame 150 in one run.) The cluster awaits them: without
+    // --await-clients a worker may write frame 1 before its writers have matched a reader that is there
+    // (DDS discovery under load; seen in 2 of 20 runs beside a parallel suite). Real time: an unpaced
+    // cluster can outrun a reader by more than the eight frames writers keep.
+    const int domain = 137;
+    const testing::DomainCleanup cleanup(domain);
+    const Scene scene = crossing_scene();
+    const std::string path = write_scene(scene, "early");
+    constexpr std::uint64_t kFrames = 180;
+    const std::string csv = path + ".watch.csv";
+    std::filesystem::remove(csv);
+    auto recorder = runtime::ChildProcess::start(
+        LPSS_WATCH,
+        {"--domain", std::to_string(domain), "--csv", csv, "--frames", std::to_string(kFrames), "--wait-s",
+         "60"},
+        path + ".watch.out");
+    ASSERT_TRUE(recorder);
+    auto client = connect(domain, "early");
+    ASSERT_TRUE(client);
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1", "--await-clients", "2"});
+    ASSERT_TRUE(cluster.process);
+    auto frames = collect(*client, kFrames, std::chrono::seconds(60));
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    ASSERT_FALSE(frames.empty());
+    EXPECT_EQ(frames.begin()->first, 1u) << "the client's first frame";
+    EXPECT_EQ(frames.size(), kFrames) << "every frame, 1 to " << kFrames;
+    for (const auto& [f, frame] : frames)
+        ASSERT_EQ(frame.bodies.size(), scene.bodies.size()) << "frame " << f;
+    ASSERT_TRUE(recorder->wait(std::chrono::seconds(30))) << read_file(path + ".watch.out");
+    EXPECT_EQ(recorder->exit_code(), 0) << read_file(path + ".watch.out");
+    // The recorder's CSV: a row per body per frame, from frame 1 on.
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    std::map<std::uint64_t, std::size_t> rows;
+    while (std::getline(in, line))
+        ++rows[std::stoull(line.substr(0, line.find(',')))];
+    ASSERT_FALSE(rows.empty()) << read_file(path + ".watch.out");
+    EXPECT_EQ(rows.begin()->first, 1u) << "the recorder's first frame";
+    EXPECT_EQ(rows.size(), kFrames) << "every frame recorded";
+    for (const auto& [f, count] : rows)
+        ASSERT_EQ(count, scene.bodies.size()) << "frame " << f;
+}
+
+TEST(Cluster, FrameOneWaitsForTheClientsItWasToldToAwait) {
+    // --await-clients 1: the cluster loads and sends its first state, then waits; a client that comes 3 s
+    // later still sees frame 1, and every frame after it (in real time: see the test above).
+    const int domain = 138;
+    const testing::DomainCleanup cleanup(domain);
+    const Scene scene = crossing_scene();
+    const std::string path = write_scene(scene, "awaited");
+    constexpr std::uint64_t kFrames = 120;
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
+    ASSERT_TRUE(cluster.process);
+    std::this_thread::sleep_for(std::chrono::seconds(3));
+    ASSERT_TRUE(cluster.process->running()) << "a cluster of 120 frames at 60 Hz would be done by now";
+    auto client = connect(domain, "awaited");
+    ASSERT_TRUE(client);
+    auto frames = collect(*client, kFrames, std::chrono::seconds(60));
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    ASSERT_FALSE(frames.empty());
+    EXPECT_EQ(frames.begin()->first, 1u) << "the client's first frame";
+    EXPECT_EQ(frames.size(), kFrames) << "every frame, 1 to " << kFrames;
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
+    EXPECT_NE(text.find("client awaited is ready"), std::string::npos) << text;
 }
 
 TEST(Cluster, AReaderMissingASectorsBaseGetsItWholeOnRequest) {
