@@ -171,7 +171,7 @@ public:
           reader_(participant.subscriber()->create_datareader(
               topic, qos, inbox,
               inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
-                                << fdds::StatusMask::liveliness_changed()
+                                                         << fdds::StatusMask::liveliness_changed()
                     : fdds::StatusMask::none())) {}
     ~Reader() {
         if (reader_) participant_.subscriber()->delete_datareader(reader_);

@@ -124,10 +124,10 @@ int main(int argc, char** argv) {
         children.push_back(std::move(*child));
     }
     std::vector<std::string> args = common;
-    args.insert(args.end(), {scene_path, "--workers", std::to_string(workers), "--frames",
-                             std::to_string(frames), "--block-size", std::to_string(block_size),
-                             "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
-                             std::to_string(await_clients)});
+    args.insert(args.end(),
+                {scene_path, "--workers", std::to_string(workers), "--frames", std::to_string(frames),
+                 "--block-size", std::to_string(block_size), "--rebalance-every",
+                 std::to_string(rebalance_every), "--await-clients", std::to_string(await_clients)});
     if (realtime) args.push_back("--realtime");
     auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
     if (!coordinator) {

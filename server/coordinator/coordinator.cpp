@@ -10,10 +10,10 @@
 #include <unordered_map>
 
 #include "heap.hpp"
+#include "lost_frame.hpp"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
-#include "lost_frame.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
@@ -51,9 +51,10 @@ public:
         origin_ = now;
         first_ = frame;
         if (late > 0.1)
-            spdlog::warn("coordinator: frame {} starts {:.2f} s late; real time goes on from here ({:.2f} s "
-                         "lost in all)",
-                         frame, late, lost_);
+            spdlog::warn(
+                "coordinator: frame {} starts {:.2f} s late; real time goes on from here ({:.2f} s "
+                "lost in all)",
+                frame, late, lost_);
     }
     double lost_seconds() const { return lost_; }
 
@@ -112,11 +113,11 @@ struct Coordinator::State {
         std::uint32_t worker = 0;
     };
     std::map<SectorKey, ReportedLoad> block_loads;
-    std::vector<wire::Handoff> grants;     ///< for the next frame
-    std::vector<wire::Handoff> in_flight;  ///< granted with the last frame started
-    std::vector<wire::Handoff> stood_in;   ///< requests of a gone worker's lost frame, stepped here
+    std::vector<wire::Handoff> grants;          ///< for the next frame
+    std::vector<wire::Handoff> in_flight;       ///< granted with the last frame started
+    std::vector<wire::Handoff> stood_in;        ///< requests of a gone worker's lost frame, stepped here
     std::set<std::uint32_t> gone_after_ending;  ///< gone after ending the frame: its requests stand
-    std::vector<wire::Command> commands;   ///< accepted, for the next frame
+    std::vector<wire::Command> commands;        ///< accepted, for the next frame
     std::vector<std::uint64_t> command_order;
     std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
     std::vector<std::uint64_t> command_order_in_flight;
@@ -486,7 +487,8 @@ void Coordinator::State::accept_commands() {
                 break;
             case wire::kCommandReady: {
                 if (ready_clients.insert(c.client()).second)
-                    spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());
+                    spdlog::info("coordinator: client {} is ready ({} so far)", c.client(),
+                                 ready_clients.size());
                 wire::CommandResult r;  // the client says it again until this comes
                 r.client(c.client());
                 r.request(c.request());
@@ -569,14 +571,16 @@ void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why)
     fresh.from_frame = f + 1;
     const bool unfinished = !marks.count({w, f});
     if (unfinished) {
-        spdlog::error("coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its "
-                      "sectors go to the others",
-                      w, f, why, into_frame);
+        spdlog::error(
+            "coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its "
+            "sectors go to the others",
+            w, f, why, into_frame);
     } else {
         // It ended the frame before it went: its samples and requests of the frame stand.
         gone_after_ending.insert(w);
-        spdlog::error("coordinator: worker {} is gone after ending frame {} ({}); its sectors go to the others",
-                      w, f, why);
+        spdlog::error(
+            "coordinator: worker {} is gone after ending frame {} ({}); its sectors go to the others", w, f,
+            why);
     }
     restore(w, f, fresh, unfinished);
     reassign(std::move(fresh), f + 1, "a worker is gone");
@@ -646,16 +650,18 @@ void Coordinator::State::restore(std::uint32_t gone_worker, std::uint64_t f, con
         for (const wire::CommandResult& r : lost_frame->results)
             results_out->write(r);
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
-        spdlog::info("coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} "
-                     "sectors around them, {:.3f} s",
-                     f, gone_worker, lost_frame->bodies, lost_frame->sectors.size(), around.size(),
-                     seconds_since(started));
+        spdlog::info(
+            "coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} "
+            "sectors around them, {:.3f} s",
+            f, gone_worker, lost_frame->bodies, lost_frame->sectors.size(), around.size(),
+            seconds_since(started));
     } else {
         // Its bodies lose frame f's motion: restored as last published, and those handed to it at frame f
         // (its samples never showed them) from their grants.
-        spdlog::error("coordinator: the frame worker {} did not finish cannot be stepped again ({}); its "
-                      "bodies are restored as last published",
-                      gone_worker, lost_frame.error().message);
+        spdlog::error(
+            "coordinator: the frame worker {} did not finish cannot be stepped again ({}); its "
+            "bodies are restored as last published",
+            gone_worker, lost_frame.error().message);
         take_samples(f);
         for (const wire::Handoff& h : in_flight) {
             if (h.to_worker() == gone_worker) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
@@ -664,8 +670,9 @@ void Coordinator::State::restore(std::uint32_t gone_worker, std::uint64_t f, con
     send_restored(gone_worker, f, fresh, keys, started);
 }
 
-void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t f, const SectorAssignment& fresh,
-                                       const std::set<SectorKey>& keys, Clock::time_point started) {
+void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t f,
+                                       const SectorAssignment& fresh, const std::set<SectorKey>& keys,
+                                       Clock::time_point started) {
     wire::WorkerFrame restored;
     restored.worker(0);
     restored.frame(f);
@@ -688,9 +695,10 @@ void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t 
     }
     marks_out->write(restored);
     wrote_sectors = true;
-    spdlog::info("coordinator: {} bodies in {} sectors of worker {} sent to their new owners, {:.3f} s after it "
-                 "was found gone",
-                 bodies, keys.size(), gone_worker, seconds_since(started));
+    spdlog::info(
+        "coordinator: {} bodies in {} sectors of worker {} sent to their new owners, {:.3f} s after it "
+        "was found gone",
+        bodies, keys.size(), gone_worker, seconds_since(started));
 }
 
 void Coordinator::State::collect_handoffs(std::uint64_t f) {

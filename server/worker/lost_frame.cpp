@@ -64,8 +64,8 @@ Expected<LostFrame> step_lost_frame(const LostFrameInput& in) {
         if (halo.owns(dds::from_wire(s.sector()))) owned.insert(dds::from_wire(s.sector()));
     }
     for (const SectorKey& key : owned) {
-        const std::vector<BodySnapshot> all = world.has_sector(key) ? world.sector_bodies(key)
-                                                                    : std::vector<BodySnapshot>{};
+        const std::vector<BodySnapshot> all =
+            world.has_sector(key) ? world.sector_bodies(key) : std::vector<BodySnapshot>{};
         std::vector<double> radii;
         for (const BodySnapshot& b : all)
             radii.push_back(world.bounding_radius(b.id));

@@ -26,7 +26,7 @@ struct LostFrameInput {
     std::uint64_t frame = 0;   ///< the frame it did not finish
     /// Complete samples of its sectors and of the sectors around them, as of frame - 1.
     std::vector<wire::SectorFrame> sectors;
-    std::vector<BodyDesc> planes;  ///< the world's planes
+    std::vector<BodyDesc> planes;         ///< the world's planes
     std::vector<wire::Handoff> handoffs;  ///< granted at `frame`
     std::vector<wire::Command> commands;  ///< of `frame`, in the coordinator's order
     std::vector<std::uint64_t> command_order;

@@ -511,10 +511,11 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
         }
         if (f > killed_at) ++checked_after;
     }
-    std::printf("worker 2 killed after frame %llu: the longest wait for a frame %.3f s; %llu frames after it, "
-                "largest difference from lpss-sim %.3g (before and after: %.3g)\n",
-                static_cast<unsigned long long>(killed_at), pause,
-                static_cast<unsigned long long>(checked_after), worst_after, worst);
+    std::printf(
+        "worker 2 killed after frame %llu: the longest wait for a frame %.3f s; %llu frames after it, "
+        "largest difference from lpss-sim %.3g (before and after: %.3g)\n",
+        static_cast<unsigned long long>(killed_at), pause, static_cast<unsigned long long>(checked_after),
+        worst_after, worst);
     EXPECT_LE(worst, 1e-3);
     EXPECT_LT(pause, 1.0) << "the world goes on within a second of the kill";
     EXPECT_GE(checked_after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
@@ -546,11 +547,10 @@ TEST(Cluster, ARecorderAndAClientStartedBeforeTheClusterSeeFrameOne) {
     constexpr std::uint64_t kFrames = 180;
     const std::string csv = path + ".watch.csv";
     std::filesystem::remove(csv);
-    auto recorder = runtime::ChildProcess::start(
-        LPSS_WATCH,
-        {"--domain", std::to_string(domain), "--csv", csv, "--frames", std::to_string(kFrames), "--wait-s",
-         "60"},
-        path + ".watch.out");
+    auto recorder = runtime::ChildProcess::start(LPSS_WATCH,
+                                                 {"--domain", std::to_string(domain), "--csv", csv,
+                                                  "--frames", std::to_string(kFrames), "--wait-s", "60"},
+                                                 path + ".watch.out");
     ASSERT_TRUE(recorder);
     auto client = connect(domain, "early");
     ASSERT_TRUE(client);
