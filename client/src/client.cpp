@@ -62,7 +62,8 @@ struct Client::State {
     std::optional<std::vector<SectorKey>> first_state;
     /// Workers whose hello (their mark of frame 0) came: their marks writer knows this client's reader.
     std::set<std::uint32_t> hellos;
-    std::uint64_t inventory_request = 0;        ///< 0: not asked yet
+    std::uint64_t inventory_request = 0;  ///< 0: not asked yet
+    std::chrono::steady_clock::time_point inventory_asked;
     bool synced = false;                        ///< the inventories are in: frames follow from `applied`
     std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
     std::set<SectorKey> unconfirmed;            ///< from inventories: not yet held at their stamp
@@ -269,12 +270,22 @@ const std::vector<std::uint32_t>* Client::State::workers_of(std::uint64_t frame)
 void Client::State::ask_for_inventory() {
     // Once every worker's request reader and sector writer are matched, so that the answer finds this client
     // reading (the samples it names are in the workers' histories, which a matched reader receives).
-    if (synced || inventory_request != 0 || !grid || workers_from.empty()) return;
+    // Asked again after a second without the answers: a request written just after matching can be lost
+    // (a worker's reader not yet matched with this writer takes nothing from before), and so can the
+    // inventory a worker gives for a reader that joins (its writer's history keeps eight frames, and this
+    // reader may match it later than that under load). Seen: a late joiner that never showed a frame.
+    if (synced || !grid || workers_from.empty()) return;
+    if (inventory_request != 0 &&
+        std::chrono::steady_clock::now() - inventory_asked < std::chrono::seconds(1))
+        return;
     const int workers = static_cast<int>(workers_from.rbegin()->second.size());
     if (requests_out->matched() < workers || marks_in->matched() < workers) return;
     wire::SectorRequest request;
     request.reader(options.name);
     inventory_request = next_sector_request++;
+    inventory_asked = std::chrono::steady_clock::now();
+    for (auto& [at, mark] : marks)
+        mark.inventory.reset();  // answers to the request before
     request.request(inventory_request);
     request.inventory(true);
     const SectorKey lo = options.region ? options.region->lo : SectorKey{INT64_MIN, INT64_MIN, INT64_MIN};

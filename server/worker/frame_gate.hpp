@@ -34,6 +34,10 @@ public:
     bool whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers, bool coordinator_wrote,
                const dds::SectorChain& chain) const;
 
+    /// Whether a worker's (0: the coordinator's) mark of `frame` has come.
+    bool has_mark(std::uint32_t worker, std::uint64_t frame) const {
+        return marks_.count({worker, frame}) != 0;
+    }
     /// Forgets marks of frames before `frame`.
     void forget_before(std::uint64_t frame);
 

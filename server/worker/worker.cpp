@@ -238,6 +238,7 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
     // The world's first state: the coordinator's samples of the sectors this worker holds, and the planes.
     // Waits as long as the coordinator is there: a large world takes a while to send.
     const auto started = Clock::now();
+    auto last_word = started;
     while (!stop.load() && (!gate.whole(0, {}, true, chain) || early_planes.size() < go.planes())) {
         if (!coordinator_present()) {
             spdlog::error("worker {}: the coordinator went away while sending the world", options.id);
@@ -245,6 +246,16 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         }
         inbox.wait(std::chrono::milliseconds(50));
         pump();
+        if (Clock::now() - last_word > std::chrono::seconds(5)) {
+            last_word = Clock::now();
+            spdlog::warn(
+                "worker {}: still waiting for the world's first state after {:.0f} s: the coordinator's "
+                "mark of it {}, {} of {} planes, {} sector samples of frame 0, {} writers of sector "
+                "frames matched",
+                options.id, std::chrono::duration<double>(Clock::now() - started).count(),
+                gate.has_mark(0, 0) ? "here" : "missing", early_planes.size(), go.planes(),
+                samples.count(0) ? samples.at(0).size() : 0, frames_in->matched());
+        }
     }
     if (stop.load()) return false;
     std::vector<std::pair<std::uint64_t, BodyDesc>> ranked_planes;
