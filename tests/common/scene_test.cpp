@@ -69,12 +69,34 @@ TEST(Scene, FormatThenParseGivesTheSameScene) {
     Scene again = parse_scene(format_scene(s), "formatted").value();
     ASSERT_EQ(again.bodies.size(), s.bodies.size());
     EXPECT_EQ(again.settings.dt, s.settings.dt);
+    EXPECT_EQ(again.settings.sector_size, s.settings.sector_size);
+    EXPECT_EQ(again.settings.gravity, s.settings.gravity);
+    EXPECT_EQ(again.settings.sleeping, s.settings.sleeping);
     for (std::size_t n = 0; n < s.bodies.size(); ++n) {
-        EXPECT_EQ(again.bodies[n].id, s.bodies[n].id);
-        EXPECT_EQ(again.bodies[n].name, s.bodies[n].name);
-        EXPECT_EQ(again.bodies[n].mass, s.bodies[n].mass);
-        EXPECT_EQ(again.bodies[n].position.index(), s.bodies[n].position.index());
+        const BodyDesc& a = again.bodies[n];
+        const BodyDesc& b = s.bodies[n];
+        EXPECT_EQ(a.id, b.id);
+        EXPECT_EQ(a.name, b.name);
+        EXPECT_EQ(a.mass, b.mass);
+        EXPECT_EQ(a.shape.index(), b.shape.index()) << "body " << b.id;
+        EXPECT_EQ(bounding_radius(a.shape), bounding_radius(b.shape)) << "body " << b.id;
+        ASSERT_EQ(a.position.index(), b.position.index());
+        if (const auto* g = std::get_if<Eigen::Vector3d>(&b.position)) {
+            EXPECT_EQ(std::get<Eigen::Vector3d>(a.position), *g) << "body " << b.id;
+        } else {
+            const auto& sp = std::get<SectorPosition>(b.position);
+            EXPECT_EQ(std::get<SectorPosition>(a.position).sector, sp.sector) << "body " << b.id;
+            EXPECT_EQ(std::get<SectorPosition>(a.position).local, sp.local) << "body " << b.id;
+        }
+        EXPECT_EQ(a.orientation.coeffs(), b.orientation.coeffs()) << "body " << b.id;
+        EXPECT_EQ(a.linear_velocity, b.linear_velocity) << "body " << b.id;
+        EXPECT_EQ(a.angular_velocity, b.angular_velocity) << "body " << b.id;
+        EXPECT_EQ(a.material.friction, b.material.friction) << "body " << b.id;
+        EXPECT_EQ(a.material.restitution, b.material.restitution) << "body " << b.id;
+        EXPECT_EQ(a.ccd, b.ccd) << "body " << b.id;
+        EXPECT_EQ(a.asleep, b.asleep) << "body " << b.id;
     }
+    EXPECT_EQ(format_scene(again), format_scene(s)) << "formatting is a fixed point";
     EXPECT_EQ(std::get<SectorPosition>(again.bodies[2].position).sector.i, 4611686018427387000);
     EXPECT_EQ(std::get<Eigen::Vector3d>(again.bodies[1].position).x(), 1e12);
 }

@@ -56,6 +56,9 @@ TEST(Stacks, ThePapersPlainSectorFramesDriftMoreAt2Pow24) {
         origin.top_drift, plain.top_drift, lpss.top_drift);
     EXPECT_GT(plain.top_drift, origin.top_drift + 0.01);
     EXPECT_GT(plain.top_height, kBoxes - 1.0) << "it still stands";
+    // And lpss's own frames, at the same place, drift as at the origin.
+    EXPECT_LE(lpss.top_drift, origin.top_drift + 0.01) << "lpss at 2^24";
+    EXPECT_LT(lpss.top_drift, plain.top_drift) << "lpss's frames beat the paper's plain ones";
 }
 
 TEST(Stacks, StandsAtSectorIndicesNear2Pow62) {

@@ -272,6 +272,17 @@ TEST(World, RemovingABodyEndsItsContactsAndFreesItsSector) {
     EXPECT_TRUE(ended);
     EXPECT_FALSE(world.contains(2));
     EXPECT_EQ(world.body_count(), 2u);
+    // A body alone in its sector: removed, its sector goes too (the stack's sector stays).
+    const SectorKey lone{3, 0, 0};
+    ASSERT_TRUE(
+        world.add_body(scenes::sphere_body(99, 0.5, 1.0, Eigen::Vector3d(3 * 128.0 + 10, 0, 0))).ok());
+    world.step();
+    ASSERT_TRUE(world.has_sector(lone));
+    ASSERT_TRUE(world.remove_body(99).ok());
+    world.step();
+    EXPECT_FALSE(world.has_sector(lone)) << "the emptied sector is freed";
+    EXPECT_TRUE(world.has_sector(SectorKey{0, 0, 0})) << "the stack's sector holds box 1";
+    EXPECT_TRUE(world.check_consistency().ok());
 }
 
 TEST(World, ThreadsDoNotChangeTheResult) {
