@@ -181,14 +181,19 @@ Outcome fast_wall(const Placement& where, bool ccd) {
         o.metrics.push_back({"distance past the wall's face (units)", std::max(0.0, x - 19.95), 0.0, false,
                              "with continuous collision detection the ball must not pass a 0.1 thick wall"});
     } else {
-        // Without ccd the ball moves 16.7 units a frame and a thin wall is missed, as in plain Bullet:
-        // what matters is that far from the origin the outcome is the same as at it.
-        Run origin(wall_shot(Vec::Zero().eval(), 128, 1000.0, 20.0, false));
-        origin.frames(30);
-        o.metrics.push_back({"difference from the run at the origin (units)",
-                             std::fabs(x - origin.at(1, Vec::Zero().eval()).x()), 1e-3, false,
-                             "the same outcome as at the origin, whatever it is"});
-        absorb(o, origin);
+        // Without ccd the ball moves 16.7 units a frame and a thin wall is missed, as in plain Bullet: it
+        // ends past the wall, wherever it is; and far from the origin exactly as at it.
+        o.metrics.push_back(
+            {"distance past the wall's far face (units)", x - 20.05, 0.0, true,
+             "no ccd: 16.7 units a frame tunnel through a 0.1 thick wall, as in plain Bullet"});
+        if (where.name != "origin") {
+            Run origin(wall_shot(Vec::Zero().eval(), 128, 1000.0, 20.0, false));
+            origin.frames(30);
+            o.metrics.push_back({"difference from the run at the origin (units)",
+                                 std::fabs(x - origin.at(1, Vec::Zero().eval()).x()), 1e-3, false,
+                                 "the same outcome as at the origin"});
+            absorb(o, origin);
+        }
     }
     o.ms_per_frame = run.ms_per_frame();
     absorb(o, run);
