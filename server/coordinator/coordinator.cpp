@@ -851,7 +851,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
                         f, most, mean, after);
                     s.reassign(std::move(fresh), f + 2, "load shifted");
                 } else {
-                    spdlog::debug(
+                    spdlog::info(
                         "coordinator: frame {}: load uneven ({:.0f} against a mean of {:.0f}), but a "
                         "new assignment would carry {:.0f} at most: kept",
                         f, most, mean, after);

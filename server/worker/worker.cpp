@@ -283,7 +283,9 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
             continue;
         }
         const std::vector<BodySnapshot> all = world->sector_bodies(key);
+        const dds::SectorPublisher::Counts before = publisher.counts(key);
         publisher.adopt(key, all, halo.near(*world, all, radii_of(*world, all)), 0);
+        count_load(key, before);  // its load counts from now, though it may never change
         halo.addressed(key, seeded->second, 0);
     }
     spdlog::info("worker {}: holds {} bodies ({} sectors of its own) after {:.2f} s", options.id,
