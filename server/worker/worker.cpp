@@ -69,6 +69,7 @@ struct Worker::State {
     std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
     std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;
     std::unique_ptr<dds::Reader<wire::SectorRequest>> requests_in;
+    std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
     std::unique_ptr<dds::LivelinessBeat> beat;  ///< keeps its marks' lease
 
     std::optional<World> world;
@@ -77,6 +78,11 @@ struct Worker::State {
     std::uint64_t frame = 0;
     std::uint32_t degraded = 0;
 
+    /// Other workers' sectors whose partial samples were refused, and when each was last asked for whole.
+    std::set<SectorKey> wanted_whole;
+    std::uint64_t whole_requests = 0;
+    std::map<SectorKey, Clock::time_point> asked_whole;
+    void ask_for_whole_sectors();
     // Received and not yet applied.
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< by frame
     dds::SectorChain chain;                                           ///< which samples are usable
@@ -132,6 +138,7 @@ Worker::~Worker() {
     state_->go_in.reset();
     state_->planes_in.reset();
     state_->requests_in.reset();
+    state_->requests_out.reset();
 }
 
 Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
@@ -160,12 +167,14 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);
+    state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
+        p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
     state->requests_in = std::make_unique<Reader<wire::SectorRequest>>(
         p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), reader_qos(kCommandDelivery),
         &state->inbox);
     if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() ||
         !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() || !state->planes_in->ok() ||
-        !state->requests_in->ok()) {
+        !state->requests_in->ok() || !state->requests_out->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
     // Four times a lease: a late beat or two does not make a worker look gone.
@@ -198,13 +207,34 @@ void Worker::State::pump() {
         if (!info.valid_data || f.worker() == options.id) return;
         received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
         if (chain.stale(f)) return;
-        // A refused sample (its base missing) is not applied: a complete one will come.
+        // A refused sample (its base missing: lost to newer ones on a loaded machine) is not applied; the
+        // sector is asked for whole, as clients do, or it would stay broken until its owner sent it whole
+        // for some other reason (seen: a worker degraded 2 s a frame for minutes).
         if (!chain.accept(f)) {
             spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, f.frame());
+            wanted_whole.insert(dds::from_wire(f.sector()));
             return;
         }
+        if (wanted_whole.erase(dds::from_wire(f.sector()))) asked_whole.erase(dds::from_wire(f.sector()));
         samples[f.frame()].push_back(f);
     });
+    ask_for_whole_sectors();
+}
+
+void Worker::State::ask_for_whole_sectors() {
+    // At most every 100 ms a sector (a request can be lost, and the answer takes a frame).
+    const auto now = Clock::now();
+    wire::SectorRequest request;
+    for (const SectorKey& key : wanted_whole) {
+        auto last = asked_whole.find(key);
+        if (last != asked_whole.end() && now - last->second < std::chrono::milliseconds(100)) continue;
+        asked_whole[key] = now;
+        request.sectors().push_back(dds::to_wire(key));
+    }
+    if (request.sectors().empty()) return;
+    request.reader("lpss-worker-" + std::to_string(options.id));
+    request.request(++whole_requests);
+    requests_out->write(request);
 }
 
 void Worker::State::apply_samples(std::uint64_t up_to,
