@@ -11,6 +11,7 @@
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
+#include "lpss_dds/whole_sector_asks.hpp"
 
 namespace lpss {
 
@@ -43,10 +44,8 @@ struct Client::State {
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
     dds::SectorChain chain;                                           ///< which samples are usable
-    dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
-    /// Sectors whose partial samples were refused, and when each was last asked for whole.
-    std::set<SectorKey> wanted_whole;
-    std::unordered_map<SectorKey, std::chrono::steady_clock::time_point, SectorKeyHash> asked;
+    dds::SectorMirror mirror;           ///< the sectors as of the last frame applied
+    dds::WholeSectorAsks wanted_whole;  ///< sectors whose partial samples were refused
     std::uint64_t next_sector_request = 1;
 
     /// What a worker said at the end of a frame: the sectors it wrote (that this client follows), how many
@@ -210,10 +209,10 @@ void Client::State::take() {
         // state of a dead worker's sectors, for their next owner).
         if (!info.valid_data || chain.stale(f)) return;
         if (!chain.accept(f)) {
-            wanted_whole.insert(dds::from_wire(f.sector()));
+            wanted_whole.want(dds::from_wire(f.sector()));
             return;
         }
-        wanted_whole.erase(dds::from_wire(f.sector()));
+        wanted_whole.got(dds::from_wire(f.sector()));
         pending[f.frame()].push_back(f);
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
@@ -299,14 +298,8 @@ void Client::State::ask_for_whole_sectors() {
     // Without a request a refused sector would wait for the next complete sample, which may never come;
     // asking makes it the next frame. Asked again while refused, not more than every 100 ms (a request can
     // be lost to discovery).
-    const auto now = std::chrono::steady_clock::now();
     wire::SectorRequest request;
-    for (const SectorKey& key : wanted_whole) {
-        auto last = asked.find(key);
-        if (last != asked.end() && now - last->second < std::chrono::milliseconds(100)) continue;
-        asked[key] = now;
-        request.sectors().push_back(dds::to_wire(key));
-    }
+    request.sectors(wanted_whole.due(std::chrono::steady_clock::now()));
     if (request.sectors().empty()) return;
     request.reader(options.name);
     request.request(next_sector_request++);

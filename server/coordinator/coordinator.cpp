@@ -9,6 +9,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "commands.hpp"
 #include "heap.hpp"
 #include "lost_frame.hpp"
 #include "lpss/common/assignment.hpp"
@@ -56,7 +57,6 @@ public:
                 "lost in all)",
                 frame, late, lost_);
     }
-    double lost_seconds() const { return lost_; }
 
 private:
     static constexpr double kCatchUpFrames = 3.0;
@@ -80,8 +80,8 @@ struct Coordinator::State {
     std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
     std::unique_ptr<dds::Writer<wire::WorkerFrame>>
         marks_out;  ///< as worker 0, when it writes sectors itself
-    /// The world's first state, and the sectors of a worker that is gone; made when needed, and let go
-    /// after the first frame: its history would hold a copy of the whole world.
+    /// The world's first state, and the sectors of a worker that is gone. Kept for the whole run: its
+    /// history serves the first state to readers that join late.
     std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
     std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
@@ -443,14 +443,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
 }
 
 void Coordinator::State::refuse(const wire::Command& c, const std::string& reason) {
-    wire::CommandResult r;
-    r.client(c.client());
-    r.request(c.request());
-    r.applied(false);
-    r.order(0);
-    r.frame(frame + 1);
-    r.reason(reason);
-    results_out->write(r);
+    results_out->write(worker::answer(c, 0, frame + 1, Error{reason}));
 }
 
 void Coordinator::State::accept_commands() {
@@ -489,12 +482,7 @@ void Coordinator::State::accept_commands() {
                 if (ready_clients.insert(c.client()).second)
                     spdlog::info("coordinator: client {} is ready ({} so far)", c.client(),
                                  ready_clients.size());
-                wire::CommandResult r;  // the client says it again until this comes
-                r.client(c.client());
-                r.request(c.request());
-                r.applied(true);
-                r.frame(frame + 1);
-                results_out->write(r);
+                results_out->write(worker::answer(c, 0, frame + 1, {}));  // said again until this comes
                 return;
             }
             default:
@@ -821,8 +809,8 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.ended.assign(s.live.begin(), s.live.end());
-        // The first frame's samples (the whole world, sent whole) have gone into the copy of the world
-        // by now: their buffers are free.
+        // The first frames' samples (whole for sectors not in the first state) have gone into the copy of
+        // the world by now: their buffers are free.
         if (f == 3) runtime::give_back_free_memory();
         s.collect_handoffs(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&

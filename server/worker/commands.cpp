@@ -44,4 +44,16 @@ std::optional<Status> apply_command(World& w, const wire::Command& c, const Hold
     }
 }
 
+wire::CommandResult answer(const wire::Command& c, std::uint64_t order, std::uint64_t frame,
+                           const Status& outcome) {
+    wire::CommandResult r;
+    r.client(c.client());
+    r.request(c.request());
+    r.applied(outcome.ok());
+    r.order(order);
+    r.frame(frame);
+    r.reason(outcome.ok() ? "" : outcome.error().message);
+    return r;
+}
+
 }  // namespace lpss::worker

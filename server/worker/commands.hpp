@@ -24,4 +24,8 @@ struct Holding {
 std::optional<Status> apply_command(World& world, const wire::Command& command, const Holding& holding,
                                     std::set<BodyId>& planes);
 
+/// The answer to a command: applied, or refused with the reason, at `frame` and in the global `order`.
+wire::CommandResult answer(const wire::Command& command, std::uint64_t order, std::uint64_t frame,
+                           const Status& outcome);
+
 }  // namespace lpss::worker

@@ -99,6 +99,14 @@ void Halo::addressed(const SectorKey& key, const std::vector<std::uint32_t>& rec
     if (to.empty()) addressed_.erase(key);
 }
 
+std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>& bodies) {
+    std::vector<double> out;
+    out.reserve(bodies.size());
+    for (const BodySnapshot& b : bodies)
+        out.push_back(world.bounding_radius(b.id));
+    return out;
+}
+
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                  const std::vector<std::pair<std::uint64_t, BodyDesc>>& also) {
     // Bodies that left a sector held here (or all of a sector that releases this worker)...

@@ -16,6 +16,9 @@
 
 namespace lpss::worker {
 
+/// The bounding radii of bodies (World::bounding_radius), in their order: what Halo::near takes.
+std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>& bodies);
+
 class Halo {
 public:
     explicit Halo(std::uint32_t self) : self_(self) {}

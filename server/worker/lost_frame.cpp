@@ -39,16 +39,9 @@ Expected<LostFrame> step_lost_frame(const LostFrameInput& in) {
                           [&world](const SectorKey& key) { return world.has_sector(key); }};
     for (std::size_t n = 0; n < in.commands.size(); ++n) {
         const wire::Command& c = in.commands[n];
-        std::optional<Status> st = apply_command(world, c, holding, plane_ids);
-        if (!st) continue;
-        wire::CommandResult r;
-        r.client(c.client());
-        r.request(c.request());
-        r.applied(st->ok());
-        r.order(n < in.command_order.size() ? in.command_order[n] : 0);
-        r.frame(in.frame);
-        r.reason(st->ok() ? "" : st->error().message);
-        out.results.push_back(std::move(r));
+        if (std::optional<Status> st = apply_command(world, c, holding, plane_ids))
+            out.results.push_back(
+                answer(c, n < in.command_order.size() ? in.command_order[n] : 0, in.frame, *st));
     }
 
     world.step();
@@ -66,11 +59,9 @@ Expected<LostFrame> step_lost_frame(const LostFrameInput& in) {
     for (const SectorKey& key : owned) {
         const std::vector<BodySnapshot> all =
             world.has_sector(key) ? world.sector_bodies(key) : std::vector<BodySnapshot>{};
-        std::vector<double> radii;
-        for (const BodySnapshot& b : all)
-            radii.push_back(world.bounding_radius(b.id));
         out.bodies += all.size();
-        out.sectors.push_back(publisher.whole(key, all, halo.near(world, all, radii), in.frame, describe));
+        out.sectors.push_back(
+            publisher.whole(key, all, halo.near(world, all, radii_of(world, all)), in.frame, describe));
     }
     out.leaving = handoff_requests(world, self, in.assignment);
     return out;

@@ -24,6 +24,7 @@
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_publisher.hpp"
 #include "lpss_dds/topics.hpp"
+#include "lpss_dds/whole_sector_asks.hpp"
 
 namespace lpss::worker {
 namespace {
@@ -40,15 +41,6 @@ struct InventoryRequest {
     std::uint64_t request = 0;
     SectorKey lo, hi;
 };
-
-/// The bounding radii of bodies, in their order.
-std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>& bodies) {
-    std::vector<double> out;
-    out.reserve(bodies.size());
-    for (const BodySnapshot& b : bodies)
-        out.push_back(world.bounding_radius(b.id));
-    return out;
-}
 
 /// Load reports come every this many frames.
 constexpr std::uint64_t kLoadReportEvery = 60;
@@ -78,10 +70,8 @@ struct Worker::State {
     std::uint64_t frame = 0;
     std::uint32_t degraded = 0;
 
-    /// Other workers' sectors whose partial samples were refused, and when each was last asked for whole.
-    std::set<SectorKey> wanted_whole;
+    dds::WholeSectorAsks wanted_whole;  ///< other workers' sectors whose partial samples were refused
     std::uint64_t whole_requests = 0;
-    std::map<SectorKey, Clock::time_point> asked_whole;
     void ask_for_whole_sectors();
     // Received and not yet applied.
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< by frame
@@ -116,7 +106,6 @@ struct Worker::State {
     /// Takes note of the assignment the coordinator announces (it takes effect at its from_frame).
     void announce(const wire::FrameGo& go);
     void apply_command(const wire::Command& command, std::uint64_t order);
-    void result(const wire::Command& command, std::uint64_t order, bool applied, const std::string& reason);
     void count_load(const SectorKey& key, const dds::SectorPublisher::Counts& before);
     /// Makes the samples of what changed (into `outgoing`, written after the mark) and says which.
     std::vector<wire::WrittenSector> publish();
@@ -212,25 +201,18 @@ void Worker::State::pump() {
         // for some other reason (seen: a worker degraded 2 s a frame for minutes).
         if (!chain.accept(f)) {
             spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, f.frame());
-            wanted_whole.insert(dds::from_wire(f.sector()));
+            wanted_whole.want(dds::from_wire(f.sector()));
             return;
         }
-        if (wanted_whole.erase(dds::from_wire(f.sector()))) asked_whole.erase(dds::from_wire(f.sector()));
+        wanted_whole.got(dds::from_wire(f.sector()));
         samples[f.frame()].push_back(f);
     });
     ask_for_whole_sectors();
 }
 
 void Worker::State::ask_for_whole_sectors() {
-    // At most every 100 ms a sector (a request can be lost, and the answer takes a frame).
-    const auto now = Clock::now();
     wire::SectorRequest request;
-    for (const SectorKey& key : wanted_whole) {
-        auto last = asked_whole.find(key);
-        if (last != asked_whole.end() && now - last->second < std::chrono::milliseconds(100)) continue;
-        asked_whole[key] = now;
-        request.sectors().push_back(dds::to_wire(key));
-    }
+    request.sectors(wanted_whole.due(Clock::now()));
     if (request.sectors().empty()) return;
     request.reader("lpss-worker-" + std::to_string(options.id));
     request.request(++whole_requests);
@@ -324,23 +306,11 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
     return true;
 }
 
-void Worker::State::result(const wire::Command& c, std::uint64_t order, bool applied,
-                           const std::string& reason) {
-    wire::CommandResult r;
-    r.client(c.client());
-    r.request(c.request());
-    r.applied(applied);
-    r.order(order);
-    r.frame(frame);
-    r.reason(reason);
-    results_out->write(r);
-}
-
 void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
     const Holding holding{[this](const SectorKey& key) { return halo.owns(key); },
                           [this](const SectorKey& key) { return halo.holds(key); }};
     if (std::optional<Status> st = worker::apply_command(*world, c, holding, planes))
-        result(c, order, st->ok(), st->ok() ? "" : st->error().message);
+        results_out->write(answer(c, order, frame, *st));
 }
 
 void Worker::State::announce(const wire::FrameGo& go) {
