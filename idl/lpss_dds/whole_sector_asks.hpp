@@ -25,6 +25,8 @@ public:
     void got(const SectorKey& key) {
         if (wanted_.erase(key)) asked_.erase(key);
     }
+    /// Whether `key` waits for a usable sample.
+    bool wanted(const SectorKey& key) const { return wanted_.count(key) != 0; }
     /// The sectors to ask for now (none asked within the last 100 ms); empty if none.
     std::vector<wire::SectorKey> due(Clock::time_point now) {
         std::vector<wire::SectorKey> out;
