@@ -26,6 +26,9 @@ Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_
     static bool loaded_ok = false;
     const std::string wanted = profile_file.empty() ? std::string("<built-in>") : profile_file;
     if (!loaded_ok || loaded != wanted) {
+        // Fast DDS's own default files (FASTRTPS_DEFAULT_PROFILES_FILE) first, so that they cannot take
+        // over later: load_profiles() runs once, also inside create_participant.
+        factory->load_profiles();
         ReturnCode rc;
         if (profile_file.empty()) {
             rc = factory->load_XML_profiles_string(kDefaultProfileXml, std::strlen(kDefaultProfileXml));
@@ -39,7 +42,10 @@ Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_
         loaded = wanted;
         loaded_ok = true;
     }
-    // The profile marked is_default_profile="true" is the default participant QoS once loaded.
+    // Loading a profile does not change the factory's default QoS: setting the default to
+    // PARTICIPANT_QOS_DEFAULT makes it the profile marked is_default_profile="true" (without this, every
+    // lpss participant ran with Fast DDS's defaults, multicast discovery on every interface included).
+    factory->set_default_participant_qos(fdds::PARTICIPANT_QOS_DEFAULT);
     fdds::DomainParticipantQos qos;
     factory->get_default_participant_qos(qos);
     return qos;

@@ -1041,6 +1041,86 @@ TEST(Cluster, TheExamplesRunAgainstTheExampleScene) {
     EXPECT_LT(ghosts, 18u) << summary;  // 18 bodies besides the ground, over 2 workers
 }
 
+/// An interface besides loopback in this test's network namespace, with the default route and the
+/// multicast routes through it, so that a packet sent anywhere but 127.0.0.1 leaves through it and is
+/// counted. A veth pair: the kernel here has no dummy interfaces. Removed when the test ends.
+class LeakCounter {
+public:
+    LeakCounter() {
+        ok_ = std::system(
+                  "ip link add lpssleak0 type veth peer name lpssleak1 && "
+                  "sysctl -qw net.ipv6.conf.lpssleak0.disable_ipv6=1 "
+                  "net.ipv6.conf.lpssleak1.disable_ipv6=1 && "
+                  "ip addr add 10.253.0.1/24 dev lpssleak0 && ip link set lpssleak1 up && "
+                  "ip link set lpssleak0 up && ip route add default dev lpssleak0 && "
+                  "ip route add 224.0.0.0/4 dev lpssleak0") == 0;
+    }
+    ~LeakCounter() { std::system("ip link del lpssleak0 2>/dev/null"); }
+    LeakCounter(const LeakCounter&) = delete;
+    LeakCounter& operator=(const LeakCounter&) = delete;
+
+    bool ok() const { return ok_; }
+    /// Packets sent out of the interface so far (/proc/self/net/dev: this process's namespace).
+    std::uint64_t sent() const {
+        std::ifstream devices("/proc/self/net/dev");
+        std::string line;
+        while (std::getline(devices, line)) {
+            const auto colon = line.find(':');
+            if (colon == std::string::npos || line.find("lpssleak0") > colon) continue;
+            std::istringstream fields(line.substr(colon + 1));
+            std::uint64_t value = 0, transmitted = 0;
+            for (int n = 0; n < 10 && fields >> value; ++n)
+                if (n == 9) transmitted = value;  // receive: 8 fields; transmit: bytes, then packets
+            return transmitted;
+        }
+        return 0;
+    }
+
+private:
+    bool ok_ = false;
+};
+
+TEST(Cluster, NothingLeavesThisMachineWithTheBuiltInProfile) {
+    // A cluster and two clients (a program and this process) on the built-in profile, in a namespace with
+    // one more interface than loopback: not a packet may leave through it. Then the opt-in LAN profile's
+    // multicast discovery must be seen leaving, to show that the count would catch a leak.
+    const int domain = 139;
+    const testing::DomainCleanup cleanup(domain);
+    LeakCounter leak;
+    if (!leak.ok()) GTEST_SKIP() << "cannot add an interface to this network namespace (needs root)";
+    const std::uint64_t before = leak.sent();
+    EXPECT_EQ(before, 0u);
+    auto cluster = start_cluster(LPSS_SOURCE_DIR "/deploy/scenes/far_stacks.textproto", domain, 2, 300);
+    ASSERT_TRUE(cluster.process);
+    auto watch = runtime::ChildProcess::start(
+        LPSS_WATCH, {"--domain", std::to_string(domain), "--wait-s", "20", "--frames", "200"},
+        cluster.log_dir + "-watch.out");
+    ASSERT_TRUE(watch);
+    auto client = connect(domain, "leak-check");
+    ASSERT_TRUE(client);
+    const auto frames = collect(*client, 300, std::chrono::seconds(60));
+    ASSERT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    ASSERT_TRUE(watch->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(watch->exit_code().value_or(-1), 0) << read_file(cluster.log_dir + "-watch.out");
+    EXPECT_GE(frames.size(), 290u) << "frames this process saw";
+    const std::uint64_t built_in = leak.sent() - before;
+    EXPECT_EQ(built_in, 0u) << "packets out of a non-loopback interface with the built-in profile";
+
+    auto lan = runtime::ChildProcess::start(LPSS_WATCH,
+                                            {"--domain", std::to_string(domain), "--wait-s", "2", "--profile",
+                                             LPSS_SOURCE_DIR "/deploy/profiles/lpss-lan.xml"},
+                                            cluster.log_dir + "-lan.out");
+    ASSERT_TRUE(lan);
+    lan->wait(std::chrono::seconds(20));
+    const std::uint64_t with_lan = leak.sent() - before - built_in;
+    EXPECT_GT(with_lan, 0u) << "the LAN profile's discovery should have left through the interface";
+    std::printf(
+        "packets out of a non-loopback interface: %llu with the built-in profile (a cluster of 2 "
+        "workers and 2 clients, %zu frames); %llu from one LAN-profile participant in 2 s\n",
+        static_cast<unsigned long long>(built_in), frames.size(), static_cast<unsigned long long>(with_lan));
+}
+
 TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
     const int domain = 129;
     const testing::DomainCleanup cleanup(domain);
