@@ -127,6 +127,8 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     if (message.has_sleeping()) s.sleeping = message.sleeping();
     if (message.has_substeps()) s.substeps = message.substeps();
     if (message.has_solver_iterations()) s.solver_iterations = message.solver_iterations();
+    s.friction_combine = static_cast<CombineRule>(message.friction_combine());
+    s.restitution_combine = static_cast<CombineRule>(message.restitution_combine());
     if (message.has_precision_radius() && !(message.precision_radius() > 0.0)) {
         return Error{std::string(source) + ": scene: precision_radius must be > 0 when given"};
     }
@@ -162,6 +164,8 @@ std::string format_scene(const Scene& scene) {
     message.set_sleeping(s.sleeping);
     if (s.substeps != 0) message.set_substeps(s.substeps);
     message.set_solver_iterations(s.solver_iterations);
+    message.set_friction_combine(static_cast<pb::CombineRule>(s.friction_combine));
+    message.set_restitution_combine(static_cast<pb::CombineRule>(s.restitution_combine));
     for (const BodyDesc& body : scene.bodies) {
         pb::Body* b = message.add_bodies();
         b->set_id(body.id);

@@ -209,6 +209,15 @@ Status validate(const WorldSettings& s) {
         return Error{"scene: solver_iterations must be between 1 and 1000, got " +
                      std::to_string(s.solver_iterations)};
     }
+    // A number the enum does not name (a scene written by a later version, or as a number) is refused.
+    for (const auto& [field, rule] : {std::pair{"friction_combine", s.friction_combine},
+                                      std::pair{"restitution_combine", s.restitution_combine}}) {
+        if (static_cast<int>(rule) > static_cast<int>(CombineRule::max)) {
+            return Error{std::string("scene: ") + field +
+                         " must be PRODUCT, GEOMETRIC_MEAN, AVERAGE, MIN or MAX, got " +
+                         std::to_string(static_cast<int>(rule))};
+        }
+    }
     if (!std::isfinite(s.hysteresis) || s.hysteresis < 0.0 || s.hysteresis > 0.25) {
         return Error{"scene: hysteresis must be a fraction of sector_size in [0, 0.25], got " +
                      number(s.hysteresis)};

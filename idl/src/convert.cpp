@@ -183,6 +183,8 @@ wire::WorldSettings to_wire(const WorldSettings& s) {
     out.sleeping(s.sleeping);
     out.substeps(s.substeps);
     out.solver_iterations(s.solver_iterations);
+    out.friction_combine(static_cast<std::uint8_t>(s.friction_combine));
+    out.restitution_combine(static_cast<std::uint8_t>(s.restitution_combine));
     return out;
 }
 
@@ -196,6 +198,8 @@ WorldSettings from_wire(const wire::WorldSettings& s) {
     out.sleeping = s.sleeping();
     out.substeps = s.substeps();
     out.solver_iterations = s.solver_iterations();
+    out.friction_combine = static_cast<CombineRule>(s.friction_combine());
+    out.restitution_combine = static_cast<CombineRule>(s.restitution_combine());
     return out;
 }
 

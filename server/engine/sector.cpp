@@ -1,16 +1,20 @@
 #include "sector.hpp"
 
+#include <algorithm>
+
 namespace lpss::engine {
 
 Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfiguration* configuration,
-               btConstraintSolver* solver, const btVector3& gravity, int solver_iterations)
+               btConstraintSolver* solver, const btVector3& gravity, const WorldSettings& settings)
     : key(k),
       anchor(a),
       dispatcher(configuration),
       broadphase(),
       world(&dispatcher, &broadphase, solver, configuration) {
     world.setGravity(gravity);
-    world.getSolverInfo().m_numIterations = solver_iterations;
+    world.getSolverInfo().m_numIterations = settings.solver_iterations;
+    world.friction_rule = settings.friction_combine;
+    world.restitution_rule = settings.restitution_combine;
     // Bodies are placed, moved and read by the engine directly: no interpolation of motion states.
     world.setSynchronizeAllMotionStates(false);
     // Only moving objects need their broadphase boxes refreshed each step; the engine refreshes a
@@ -18,7 +22,7 @@ Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfigur
     world.setForceUpdateAllAabbs(false);
 }
 
-Sector::Sector(const SectorKey& k, const btVector3& gravity, int solver_iterations)
+Sector::Sector(const SectorKey& k, const btVector3& gravity, const WorldSettings& settings)
     : key(k),
       own_configuration(std::make_unique<btDefaultCollisionConfiguration>()),
       own_solver(std::make_unique<btSequentialImpulseConstraintSolver>()),
@@ -26,13 +30,36 @@ Sector::Sector(const SectorKey& k, const btVector3& gravity, int solver_iteratio
       broadphase(),
       world(&dispatcher, &broadphase, own_solver.get(), own_configuration.get()) {
     world.setGravity(gravity);
-    world.getSolverInfo().m_numIterations = solver_iterations;
+    world.getSolverInfo().m_numIterations = settings.solver_iterations;
+    world.friction_rule = settings.friction_combine;
+    world.restitution_rule = settings.restitution_combine;
     world.setSynchronizeAllMotionStates(false);
 }
 
 void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
+    if (friction_rule != CombineRule::product || restitution_rule != CombineRule::product)
+        combine_materials(*getDispatcher(), friction_rule, restitution_rule);
     bouncing_contacts_keep_their_energy(*getDispatcher(), info);
     btDiscreteDynamicsWorld::solveConstraints(info);
+}
+
+void combine_materials(btDispatcher& dispatcher, CombineRule friction, CombineRule restitution) {
+    const int manifolds = dispatcher.getNumManifolds();
+    for (int m = 0; m < manifolds; ++m) {
+        btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+        const btCollisionObject* a = manifold->getBody0();
+        const btCollisionObject* b = manifold->getBody1();
+        // Bullet clamps a combined friction to 10 (MAX_FRICTION in btManifoldResult.cpp): so does lpss.
+        const auto combined_friction =
+            static_cast<btScalar>(std::min(combine(friction, a->getFriction(), b->getFriction()), 10.0));
+        const auto combined_restitution =
+            static_cast<btScalar>(combine(restitution, a->getRestitution(), b->getRestitution()));
+        for (int p = 0; p < manifold->getNumContacts(); ++p) {
+            btManifoldPoint& point = manifold->getContactPoint(p);
+            point.m_combinedFriction = combined_friction;
+            point.m_combinedRestitution = combined_restitution;
+        }
+    }
 }
 
 void bouncing_contacts_keep_their_energy(btDispatcher& dispatcher, const btContactSolverInfo& info) {
@@ -48,12 +75,12 @@ void bouncing_contacts_keep_their_energy(btDispatcher& dispatcher, const btConta
             // threshold.
             btScalar approach = 0;
             if (point.m_combinedRestitution > 0) {
-                const btVector3 va = a ? a->getVelocityInLocalPoint(point.getPositionWorldOnA() -
-                                                                    a->getCenterOfMassPosition())
-                                       : btVector3(0, 0, 0);
-                const btVector3 vb = b ? b->getVelocityInLocalPoint(point.getPositionWorldOnB() -
-                                                                    b->getCenterOfMassPosition())
-                                       : btVector3(0, 0, 0);
+                const btVector3 va =
+                    a ? a->getVelocityInLocalPoint(point.getPositionWorldOnA() - a->getCenterOfMassPosition())
+                      : btVector3(0, 0, 0);
+                const btVector3 vb =
+                    b ? b->getVelocityInLocalPoint(point.getPositionWorldOnB() - b->getCenterOfMassPosition())
+                      : btVector3(0, 0, 0);
                 approach = -point.m_normalWorldOnB.dot(va - vb);
             }
             if (approach > info.m_restitutionVelocityThreshold) {

@@ -16,6 +16,7 @@
 #include "bullet_convert.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "lpss/common/world_settings.hpp"
 #include "sector_id.hpp"
 
 namespace lpss::engine {
@@ -33,13 +34,23 @@ struct ContactRecord {
 /// - it gives back the manifolds of its last step's predictive (CCD) contacts when it is destroyed:
 ///   btDiscreteDynamicsWorld frees them only at the start of the next step, so a sector destroyed right
 ///   after stepping a fast body would leak them (LeakSanitizer found it);
-/// - a bouncing contact gains no energy from penetration recovery (see bouncing_contacts_keep_their_energy).
+/// - a bouncing contact gains no energy from penetration recovery (see bouncing_contacts_keep_their_energy);
+/// - contacts combine their bodies' friction and restitution by the scene's rules (combine_materials).
 class DynamicsWorld : public btDiscreteDynamicsWorld {
 public:
     using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
     ~DynamicsWorld() override { releasePredictiveContacts(); }
     void solveConstraints(btContactSolverInfo& info) override;
+
+    /// The scene's rules for a contact's friction and restitution (Bullet's own rule is the product).
+    CombineRule friction_rule = CombineRule::product;
+    CombineRule restitution_rule = CombineRule::product;
 };
+
+/// Sets every contact's friction and restitution by the world's rules: Bullet combines them by product
+/// when it finds a contact (through process-wide callbacks, which lpss leaves alone), so the other rules
+/// are applied here, before each solve, from the two bodies' coefficients.
+void combine_materials(btDispatcher& dispatcher, CombineRule friction, CombineRule restitution);
 
 /// Bullet pushes penetrating bodies apart by adding velocity (Baumgarte: erp x depth / dt) on top of the
 /// velocity restitution gives them: at dt = 1/60 an impact is found up to a step's motion deep, so every
@@ -56,9 +67,9 @@ class Sector {
 public:
     /// A sector sharing the world's collision configuration, stepped with a thread's solver.
     Sector(const SectorKey& key, const Eigen::Vector3d& anchor, btCollisionConfiguration* configuration,
-           btConstraintSolver* solver, const btVector3& gravity, int solver_iterations);
+           btConstraintSolver* solver, const btVector3& gravity, const WorldSettings& settings);
     /// A naive sector (EngineOptions::naive_sector_worlds): a default Bullet world of its own.
-    Sector(const SectorKey& key, const btVector3& gravity, int solver_iterations);
+    Sector(const SectorKey& key, const btVector3& gravity, const WorldSettings& settings);
     ~Sector();
     Sector(const Sector&) = delete;
     Sector& operator=(const Sector&) = delete;

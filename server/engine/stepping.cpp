@@ -1,7 +1,7 @@
 // Stage 3, stepping: every sector in this frame's step set advances by dt, concurrently. A sector is
 // only touched by the thread stepping it, and each thread brings its own solver (Debian's Bullet is
 // not thread-safe: see shared_collision_configuration.hpp). After its step a sector records, for the
-// next frame, whether it still holds anything awake, how fast its bodies move, and what touches.
+// next frame, whether it still holds anything awake, which originals were active, and what touches.
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include <algorithm>

@@ -123,9 +123,9 @@ void World::Impl::follow_bodies(Sector& sector) {
 Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& first_local) {
     if (Sector* existing = sectors.find(key)) return *existing;
     auto sector = options.naive_sector_worlds
-                      ? std::make_unique<Sector>(key, gravity, settings.solver_iterations)
+                      ? std::make_unique<Sector>(key, gravity, settings)
                       : std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
-                                                 solvers[0].get(), gravity, settings.solver_iterations);
+                                                 solvers[0].get(), gravity, settings);
     sector->remote = !owns(key);
     Sector& s = sectors.insert(std::move(sector));
     for (std::uint32_t slot : planes)

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <string>
 
 namespace lpss {
@@ -66,12 +68,23 @@ TEST(Scene, ParsesFieldsAndDefaults) {
 
 TEST(Scene, FormatThenParseGivesTheSameScene) {
     Scene s = good_scene();
+    s.settings.substeps = 3;
+    s.settings.solver_iterations = 17;
+    s.settings.hysteresis = 0.125;
+    s.settings.friction_combine = CombineRule::geometric_mean;
+    s.settings.restitution_combine = CombineRule::max;
     Scene again = parse_scene(format_scene(s), "formatted").value();
     ASSERT_EQ(again.bodies.size(), s.bodies.size());
     EXPECT_EQ(again.settings.dt, s.settings.dt);
     EXPECT_EQ(again.settings.sector_size, s.settings.sector_size);
+    EXPECT_EQ(again.settings.precision_radius, s.settings.precision_radius);
     EXPECT_EQ(again.settings.gravity, s.settings.gravity);
     EXPECT_EQ(again.settings.sleeping, s.settings.sleeping);
+    EXPECT_EQ(again.settings.substeps, 3);
+    EXPECT_EQ(again.settings.solver_iterations, 17);
+    EXPECT_EQ(again.settings.hysteresis, 0.125);
+    EXPECT_EQ(again.settings.friction_combine, CombineRule::geometric_mean);
+    EXPECT_EQ(again.settings.restitution_combine, CombineRule::max);
     for (std::size_t n = 0; n < s.bodies.size(); ++n) {
         const BodyDesc& a = again.bodies[n];
         const BodyDesc& b = s.bodies[n];
@@ -112,6 +125,31 @@ TEST(Scene, AsleepNeedsAWorldThatSleepsAndRoundTrips) {
     EXPECT_TRUE(parse_scene(format_scene(s), "formatted").value().bodies[0].asleep);
     s.bodies[0].asleep = false;
     EXPECT_FALSE(parse_scene(format_scene(s), "formatted").value().bodies[0].asleep);
+}
+
+TEST(Scene, CombineRulesDefaultToBulletsProductAndAreNamedInTheFile) {
+    const Scene plain = parse_scene("sector_size: 64", "plain").value();
+    EXPECT_EQ(plain.settings.friction_combine, CombineRule::product);
+    EXPECT_EQ(plain.settings.restitution_combine, CombineRule::product);
+    const Scene jolt =
+        parse_scene("sector_size: 64 friction_combine: GEOMETRIC_MEAN restitution_combine: MAX", "j").value();
+    EXPECT_EQ(jolt.settings.friction_combine, CombineRule::geometric_mean);
+    EXPECT_EQ(jolt.settings.restitution_combine, CombineRule::max);
+    auto bad = parse_scene("sector_size: 64 friction_combine: HARMONIC", "bad");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("HARMONIC"), std::string::npos) << bad.error().message;
+    WorldSettings settings;
+    settings.restitution_combine = static_cast<CombineRule>(9);  // e.g. from a newer peer on the wire
+    Status refused = validate(settings);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("restitution_combine"), std::string::npos)
+        << refused.error().message;
+    // The rules themselves: two coefficients 0.5 and 0.2.
+    EXPECT_DOUBLE_EQ(combine(CombineRule::product, 0.5, 0.2), 0.1);
+    EXPECT_DOUBLE_EQ(combine(CombineRule::geometric_mean, 0.5, 0.2), std::sqrt(0.1));
+    EXPECT_DOUBLE_EQ(combine(CombineRule::average, 0.5, 0.2), 0.35);
+    EXPECT_DOUBLE_EQ(combine(CombineRule::min, 0.5, 0.2), 0.2);
+    EXPECT_DOUBLE_EQ(combine(CombineRule::max, 0.5, 0.2), 0.5);
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {

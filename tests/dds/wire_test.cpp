@@ -115,6 +115,32 @@ TEST(Wire, BodyDescriptionsRoundTrip) {
     EXPECT_EQ(back.material.friction, 0.3);
 }
 
+TEST(Wire, WorldSettingsRoundTrip) {
+    // Workers build their worlds from the settings the coordinator sends: every field must arrive.
+    WorldSettings s;
+    s.sector_size = 96;
+    s.dt = 1.0 / 90.0;
+    s.precision_radius = 1e4;
+    s.gravity = Eigen::Vector3d(0.5, -9.81, 0.25);
+    s.hysteresis = 0.2;
+    s.sleeping = false;
+    s.substeps = 3;
+    s.solver_iterations = 25;
+    s.friction_combine = CombineRule::geometric_mean;
+    s.restitution_combine = CombineRule::min;
+    const WorldSettings back = from_wire(to_wire(s));
+    EXPECT_EQ(back.sector_size, s.sector_size);
+    EXPECT_EQ(back.dt, s.dt);
+    EXPECT_EQ(back.precision_radius, s.precision_radius);
+    EXPECT_EQ(back.gravity, s.gravity);
+    EXPECT_EQ(back.hysteresis, s.hysteresis);
+    EXPECT_EQ(back.sleeping, s.sleeping);
+    EXPECT_EQ(back.substeps, s.substeps);
+    EXPECT_EQ(back.solver_iterations, s.solver_iterations);
+    EXPECT_EQ(back.friction_combine, CombineRule::geometric_mean);
+    EXPECT_EQ(back.restitution_combine, CombineRule::min);
+}
+
 TEST(Wire, UnreadableProfileIsRefused) {
     auto p = Participant::create(kDomain, "/nonexistent/profile.xml", "x");
     ASSERT_FALSE(p.ok());

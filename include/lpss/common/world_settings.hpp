@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include "lpss/common/combine_rule.hpp"
 #include "lpss/common/expected.hpp"
 
 namespace lpss {
@@ -21,6 +22,8 @@ struct WorldSettings {
     /// a coarse frame rate does not make contacts coarse.
     int substeps = 0;
     int solver_iterations = 10;  ///< constraint solver iterations per step (Bullet's default is 10)
+    CombineRule friction_combine = CombineRule::product;     ///< a contact's friction from its bodies'
+    CombineRule restitution_combine = CombineRule::product;  ///< a contact's restitution from its bodies'
 
     /// The substeps actually used (resolving 0).
     int substeps_per_frame() const;
