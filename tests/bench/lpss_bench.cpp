@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
         {"stacks", "box stacks of 10 and 30 at 0, 2^24, 2^40, 1e15 (paper Figure 8)", run_stacks},
         {"scaling", "frame time against body count and threads", run_scaling},
         {"stability", "the stability suite's numbers", run_stability},
+        {"accuracy", "analytic cases against substeps and solver iterations, with cost", run_accuracy},
         {"cluster", "lpss-cluster with 2 workers against one process", run_cluster},
         {"cluster-scale",
          "a world at rest from 10^4 to 10^6 bodies: lpss-cluster (1, 2, 4 workers) and lpss-sim",

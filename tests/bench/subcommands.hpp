@@ -13,6 +13,7 @@ void run_overhead(const Context& context);
 void run_stacks(const Context& context);
 void run_scaling(const Context& context);
 void run_stability(const Context& context);
+void run_accuracy(const Context& context);
 void run_cluster(const Context& context);
 void run_cluster_scale(const Context& context);
 
