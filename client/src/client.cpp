@@ -534,12 +534,25 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
                     mark.inventory.reset();  // answers to the request before
                 break;
             }
-            // A worker that never ends f is gone if the assignment of the next frame leaves it out and the
-            // others have ended that one: its sectors come whole from their new owners. Skip f.
-            const std::vector<std::uint32_t>* after = s.workers_of(f + 1);
-            bool skip = after != nullptr && after != workers;
-            for (std::uint32_t w : after ? *after : std::vector<std::uint32_t>{})
-                skip = skip && s.marks.count({w, f + 1});
+            // A worker that never ends f (for this client) is gone if a later assignment leaves it out and
+            // every worker of that assignment has ended its first frame: the sectors it had come whole from
+            // their new owners. Skip f. (It may have ended f and more: killed right after writing its end
+            // of f, that reached the coordinator and not this client, which waited on f for ever.)
+            std::vector<std::uint32_t> missing;
+            for (std::uint32_t w : *workers) {
+                if (!s.marks.count({w, f})) missing.push_back(w);
+            }
+            bool skip = false;
+            for (auto later = s.workers_from.upper_bound(f); later != s.workers_from.end() && !skip;
+                 ++later) {
+                const std::vector<std::uint32_t>& then = later->second;
+                bool leaves_out = true, ended = true;
+                for (std::uint32_t w : missing)
+                    leaves_out = leaves_out && std::find(then.begin(), then.end(), w) == then.end();
+                for (std::uint32_t w : then)
+                    ended = ended && s.marks.count({w, later->first});
+                skip = leaves_out && ended;
+            }
             if (!skip) break;
             for (std::uint32_t w : *workers) {
                 if (auto it = s.marks.find({w, f}); it != s.marks.end()) {

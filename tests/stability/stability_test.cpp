@@ -3,6 +3,10 @@
 // each case in tests/support/stability_cases.cpp; lpss-bench stability prints the numbers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
 #include "stability_cases.hpp"
 
 namespace lpss::stability {
@@ -22,6 +26,44 @@ TEST_P(Stability, KeepsItsLimits) {
         RecordProperty(m.name, std::to_string(m.value));
     }
 }
+
+class FarAsAtTheOrigin : public ::testing::TestWithParam<std::size_t> {};
+
+TEST_P(FarAsAtTheOrigin, KeepsTheOriginsFigures) {
+    // The limits above are absolute, set with room for Bullet's own behaviour; "far behaves as at the
+    // origin" is the point of lpss. So each far figure is held to the origin's: at most half again the
+    // origin's value plus 5% of the limit (for figures near zero) for a "<=" metric, at least two thirds of
+    // it less 5% of the limit for a ">=" one.
+    const Case c = all_cases()[GetParam()];
+    const Outcome origin = c.run(placements()[0]);
+    const Outcome far = c.run(placements()[1]);
+    // A far run may measure more (its difference from the origin's run): the metrics both have are compared.
+    std::size_t compared = 0;
+    for (const Metric& o : origin.metrics) {
+        auto same = std::find_if(far.metrics.begin(), far.metrics.end(),
+                                 [&](const Metric& m) { return m.name == o.name; });
+        ASSERT_NE(same, far.metrics.end()) << c.name << ": " << o.name << " not measured far out";
+        const Metric& f = *same;
+        ++compared;
+        const double slack = 0.05 * std::fabs(o.limit);
+        if (o.at_least) {
+            EXPECT_GE(f.value, o.value / 1.5 - slack)
+                << c.name << ": " << o.name << " far " << f.value << ", at the origin " << o.value;
+        } else {
+            EXPECT_LE(f.value, 1.5 * o.value + slack)
+                << c.name << ": " << o.name << " far " << f.value << ", at the origin " << o.value;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Suite, FarAsAtTheOrigin, ::testing::Range<std::size_t>(0, all_cases().size()),
+                         [](const ::testing::TestParamInfo<std::size_t>& info) {
+                             std::string name = all_cases()[info.param].name;
+                             for (char& ch : name) {
+                                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                             }
+                             return name;
+                         });
 
 std::vector<std::pair<std::size_t, std::size_t>> every_case_and_placement() {
     std::vector<std::pair<std::size_t, std::size_t>> out;

@@ -430,8 +430,10 @@ Outcome tiny_bodies(const Placement& where) {
     }
     Run run(s);
     run.frames(300);
-    o.metrics.push_back({"sphere's rest height error (units)", std::fabs(run.at(1, where.centre).y() - 0.01),
-                         0.005, false, "a 0.01 sphere dropped from 0.5 rests on the ground, not in it"});
+    o.metrics.push_back(
+        {"sphere's rest height error (units)", std::fabs(run.at(1, where.centre).y() - 0.01), 0.001, false,
+         "a 0.01 sphere dropped from 0.5 rests on the ground, not in it: within a tenth of its "
+         "radius (measured 6e-10)"});
     o.metrics.push_back({"tiny stack top height (units)", run.at(14, where.centre).y(), 0.08, true,
                          "five 0.02 boxes stand (top at 0.09)"});
     o.ms_per_frame = run.ms_per_frame();
