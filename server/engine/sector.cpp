@@ -39,7 +39,7 @@ Sector::Sector(const SectorKey& k, const btVector3& gravity, const WorldSettings
 void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
     if (friction_rule != CombineRule::product || restitution_rule != CombineRule::product)
         combine_materials(*getDispatcher(), friction_rule, restitution_rule);
-    bouncing_contacts_keep_their_energy(*getDispatcher(), info);
+    if (keep_bounce_energy) bouncing_contacts_keep_their_energy(*getDispatcher(), info);
     btDiscreteDynamicsWorld::solveConstraints(info);
 }
 

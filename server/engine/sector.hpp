@@ -45,6 +45,7 @@ public:
     /// The scene's rules for a contact's friction and restitution (Bullet's own rule is the product).
     CombineRule friction_rule = CombineRule::product;
     CombineRule restitution_rule = CombineRule::product;
+    bool keep_bounce_energy = true;  ///< false: Bullet's own push (EngineOptions::bullet_bounces)
 };
 
 /// Sets every contact's friction and restitution by the world's rules: Bullet combines them by product

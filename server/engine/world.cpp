@@ -127,6 +127,7 @@ Sector& World::Impl::sector_for(const SectorKey& key, const Eigen::Vector3d& fir
                       : std::make_unique<Sector>(key, anchor_near(first_local), configuration.get(),
                                                  solvers[0].get(), gravity, settings);
     sector->remote = !owns(key);
+    sector->world.keep_bounce_energy = !options.bullet_bounces;
     Sector& s = sectors.insert(std::move(sector));
     for (std::uint32_t slot : planes)
         add_plane_instance(slot, s);

@@ -28,8 +28,10 @@ Scene empty_scene(const Vec& gravity, const Knobs& knobs) {
 /// The length of one physics step of a scene (dt / substeps).
 double step_length(const Scene& s) { return s.settings.dt / s.settings.substeps_per_frame(); }
 
-World make(const Scene& s) {
-    Expected<World> world = World::create(s, {});
+World make(const Scene& s, const Knobs& knobs) {
+    EngineOptions options;
+    options.bullet_bounces = knobs.bullet_bounces;
+    Expected<World> world = World::create(s, options);
     if (!world) throw std::runtime_error("accuracy case refused: " + world.error().message);
     return std::move(world).value();
 }
@@ -69,7 +71,7 @@ std::vector<Measure> head_on(const Centre& centre, const Knobs& knobs) {
     // Two spheres of radius 0.5, 4.1 apart, at 2 units/s each, restitution 1: they touch at t = 3.1 / 4 =
     // 0.775 s and leave at 2 units/s each; at 3 s each is 0.5 + 2 (3 - 0.775) = 4.95 from the middle.
     const Scene s = head_on_scene(centre, knobs);
-    World world = make(s);
+    World world = make(s, knobs);
     for (int f = 0; f < 180; ++f)
         world.step();
     const double energy =
@@ -100,7 +102,7 @@ Scene ball_scene(const Centre& centre, const Knobs& knobs, double ball_restituti
 std::vector<Measure> elastic_bounces(const Centre& centre, const Knobs& knobs) {
     // Dropped with its centre at 2.5, restitution 1 on ball and plane: every apex is 2.5. The worst of the
     // first ten, within 2% of the 2.0 fall either way.
-    World world = make(ball_scene(centre, knobs, 1.0, CombineRule::product));
+    World world = make(ball_scene(centre, knobs, 1.0, CombineRule::product), knobs);
     const std::vector<double> found = apexes(world, 2, centre, 900);
     double worst = found.size() < 10 ? 0.0 : 2.5;
     for (std::size_t n = 0; n < std::min<std::size_t>(10, found.size()); ++n) {
@@ -113,7 +115,7 @@ std::vector<Measure> elastic_bounces(const Centre& centre, const Knobs& knobs) {
 std::vector<Measure> half_bounces(const Centre& centre, const Knobs& knobs) {
     // Restitution 0.5 on the ball, 1 on the plane, multiplied (Bullet's rule): each bounce leaves with
     // half the speed, a quarter of the height: rebounds of 0.5 and 0.125 above the contact at 0.5.
-    World world = make(ball_scene(centre, knobs, 0.5, CombineRule::product));
+    World world = make(ball_scene(centre, knobs, 0.5, CombineRule::product), knobs);
     std::vector<double> found = apexes(world, 2, centre, 300);
     found.resize(std::max<std::size_t>(found.size(), 2), 0.5);
     return {{"first rebound height", found[0] - 0.5, 0.5, 0.05, 1e-4,
@@ -124,7 +126,7 @@ std::vector<Measure> half_bounces(const Centre& centre, const Knobs& knobs) {
 std::vector<Measure> averaged_bounce(const Centre& centre, const Knobs& knobs) {
     // Restitution 0.5 and 1 averaged (the scene's rule, PhysX's default): 0.75, a rebound of
     // 2 x 0.75^2 = 1.125 above the contact.
-    World world = make(ball_scene(centre, knobs, 0.5, CombineRule::average));
+    World world = make(ball_scene(centre, knobs, 0.5, CombineRule::average), knobs);
     std::vector<double> found = apexes(world, 2, centre, 300);
     found.resize(std::max<std::size_t>(found.size(), 1), 0.5);
     return {{"first rebound height", found[0] - 0.5, 1.125, 0.1125, 1e-4,
@@ -150,7 +152,7 @@ std::vector<Measure> slide(const Centre& centre, const Knobs& knobs, CombineRule
     // A unit box at 5 units/s, friction 0.5 on box and plane combined into mu: it decelerates at mu g,
     // stops after v^2 / (2 mu g) units at v / (mu g) s.
     const double v = 5.0, distance = v * v / (2 * mu * kG), time = v / (mu * kG);
-    World world = make(slide_scene(centre, knobs, rule));
+    World world = make(slide_scene(centre, knobs, rule), knobs);
     int stopped_at = -1;
     for (int f = 1; f <= 240; ++f) {
         world.step();
@@ -174,7 +176,7 @@ std::vector<Measure> free_fall(const Centre& centre, const Knobs& knobs) {
     // at h = 1/60. The fall is held to the analytic value within that stated error.
     Scene s = empty_scene(Vec(0, -kG, 0), knobs);
     s.bodies.push_back(scenes::sphere_body(1, 0.5, 1.0, centre));
-    World world = make(s);
+    World world = make(s, knobs);
     for (int f = 0; f < 60; ++f)
         world.step();
     const double stated = 0.5 * kG * step_length(s);
@@ -199,7 +201,7 @@ std::vector<Measure> resting_stack(const Centre& centre, const Knobs& knobs) {
     // Five unit boxes stacked on a plane, 10 s: contact resolution must not pump energy in. Per unit mass,
     // kinetic energy stays below what the boxes' settling into their contacts released, at every frame;
     // they settle by millimetres, and are still after a second.
-    World world = make(stack_scene(centre, knobs));
+    World world = make(stack_scene(centre, knobs), knobs);
     auto heights = [&] {
         double sum = 0.0;
         for (BodyId id = 1; id <= 5; ++id)

@@ -17,6 +17,7 @@ namespace lpss::accuracy {
 struct Knobs {
     int substeps = 0;  ///< 0: the engine's default (enough for steps of at most 1/60 s)
     int solver_iterations = 10;
+    bool bullet_bounces = false;  ///< EngineOptions::bullet_bounces: Bullet's own push on bounces, to compare
 };
 
 /// One measured quantity against its analytic value.

@@ -41,6 +41,9 @@ struct EngineOptions {
     /// own (its own default collision configuration and solver, all boxes refreshed every step) and
     /// every sector is stepped every frame, as one would without lpss's sharing and sleeping rules.
     bool naive_sector_worlds = false;
+    /// For comparison only (lpss-bench accuracy): Bullet's own penetration push on bouncing contacts, which
+    /// gives bounces energy (docs/design.md, "Solver settings"). Off: bounces keep what restitution says.
+    bool bullet_bounces = false;
     /// Which sectors this engine simulates (every sector when empty). A body in a sector it does not own
     /// is a *ghost*: a copy of a body another process simulates, kept so that it can be cloned across
     /// the border; set_state moves it. An owned body whose centre crosses into a sector not owned stays
