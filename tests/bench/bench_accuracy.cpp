@@ -80,7 +80,8 @@ void run_accuracy(const Context& context) {
         "set multiplot layout 2,4 title 'Accuracy against cost: worst error / its limit (below the red "
         "line keeps every limit; ringed: the cheapest setting that does; 1e-3: no error)'\n"
         "set logscale xy\nset xlabel 'ms per frame' font ',9'\nset ylabel 'worst error / limit' font ',9'\n"
-        "set yrange [5e-4:2e3]\nset format y '10^{%L}'\nset key top right font ',8'\n"
+        "set xrange [5e-4:2]\nset yrange [5e-4:2e3]\nset format y '10^{%L}'\n"
+        "set key top right font ',7' samplen 1 spacing 0.8 width -4\n"
         "set arrow 1 from graph 0, first 1 to graph 1, first 1 nohead lc rgb 'red'\n"
         "v(c,k) = (strcol(1) eq c && strcol(2) eq k) ? ($5 > 1e-3 ? $5 : 1e-3) : 1/0\n"
         "best(c) = (strcol(1) eq c && strcol(11) eq '1') ? ($5 > 1e-3 ? $5 : 1e-3) : 1/0\n";
