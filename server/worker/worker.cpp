@@ -537,6 +537,8 @@ int Worker::run(const std::atomic<bool>& stop) {
 
     const auto started = Clock::now();
     bool coordinator_seen = false;
+    bool coordinator_lost = false;          ///< a running world has no coordinator
+    Clock::time_point coordinator_lost_at;  ///< since when
     double write_ms = 0.0;  // writing the last frame's samples, reported with the next frame's mark
     while (!stop.load()) {
         s.pump();
@@ -555,6 +557,24 @@ int Worker::run(const std::atomic<bool>& stop) {
                                   s.participant->domain(), s.options.coordinator_wait.count() / 1000);
                     return 3;
                 }
+            } else if (!s.coordinator_present()) {
+                // Gone mid-run (DDS drops a killed participant when its lease of 20 s runs out). No other
+                // coordinator takes over yet: say so, and stop after the coordinator wait rather than wait
+                // for ever in silence.
+                if (!coordinator_lost) {
+                    coordinator_lost = true;
+                    coordinator_lost_at = Clock::now();
+                    spdlog::error(
+                        "worker {}: the coordinator is gone after frame {}; stopping unless one "
+                        "comes within {} s",
+                        id, s.frame, s.options.coordinator_wait.count() / 1000);
+                } else if (Clock::now() - coordinator_lost_at > s.options.coordinator_wait) {
+                    spdlog::error("worker {}: no coordinator came back; stopping after frame {}", id,
+                                  s.frame);
+                    return 3;
+                }
+            } else {
+                coordinator_lost = false;
             }
             s.inbox.wait(std::chrono::milliseconds(50));
             continue;

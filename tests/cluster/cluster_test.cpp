@@ -583,6 +583,48 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
 }
 
+TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
+    // No standby coordinator exists yet: when the coordinator is killed mid-run, the workers must not wait
+    // in silence for ever. They find it gone when DDS drops its participant (its lease, 20 s), say so, and
+    // stop after their coordinator wait (1 s here) with exit code 3.
+    const int domain = 140;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "orphans");
+    const std::string logs = path + ".orphans";
+    std::vector<runtime::ChildProcess> workers;
+    for (int w = 1; w <= 2; ++w) {
+        auto worker = runtime::ChildProcess::start(
+            LPSS_WORKER,
+            {"--id", std::to_string(w), "--domain", std::to_string(domain), "--coordinator-wait-s", "1"},
+            logs + ".worker" + std::to_string(w));
+        ASSERT_TRUE(worker);
+        workers.push_back(std::move(*worker));
+    }
+    auto coordinator = runtime::ChildProcess::start(
+        LPSS_COORDINATOR, {path, "--workers", "2", "--domain", std::to_string(domain), "--realtime"},
+        logs + ".coordinator");
+    ASSERT_TRUE(coordinator);
+    auto client = connect(domain, "orphans");
+    ASSERT_TRUE(client);
+    const auto frames = collect(*client, 60, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    ASSERT_GE(frames.rbegin()->first, 60u) << "the world ran";
+    ::kill(coordinator->pid(), SIGKILL);
+    const auto killed = std::chrono::steady_clock::now();
+    for (runtime::ChildProcess& worker : workers) {
+        EXPECT_TRUE(worker.wait(std::chrono::seconds(60))) << "a worker still waits a minute on";
+        EXPECT_EQ(worker.exit_code().value_or(-1), 3);
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+    for (int w = 1; w <= 2; ++w) {
+        const std::string text = read_file(logs + ".worker" + std::to_string(w));
+        EXPECT_NE(text.find("the coordinator is gone after frame"), std::string::npos) << text;
+        EXPECT_NE(text.find("no coordinator came back"), std::string::npos) << text;
+    }
+    std::printf("the coordinator killed after frame %llu: both workers stopped %.1f s later\n",
+                static_cast<unsigned long long>(frames.rbegin()->first), seconds);
+}
+
 TEST(Cluster, ARecorderAndAClientStartedBeforeTheClusterSeeFrameOne) {
     // Started before the cluster, both are there when the world's first state is written: they follow it
     // from frame 1 on, every frame. (Before, a reader asked the workers for an inventory and started from

@@ -5,7 +5,7 @@
 
 int main() {
     lpss::ClientOptions options;
-    options.domain = 127;
+    options.domain = 141;  // a domain no other test uses: it must find no cluster
     options.name = "package-user";
     auto client = lpss::Client::connect(options);
     if (!client) return 1;
