@@ -4,6 +4,7 @@
 // `accuracy` (which sweeps the accuracy knobs, substeps and solver iterations, against cost).
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
