@@ -16,6 +16,14 @@ std::string number(double v) {
     return out.str();
 }
 
+std::string speed_limit_breach(const char* kind, double speed, double limit, const WorldSettings& s) {
+    const bool linear = kind[0] == 'l';
+    return std::string(kind) + " speed " + number(speed) + (linear ? " units/s" : " rad/s") +
+           " is above the " + number(limit) + (linear ? " units/s" : " rad/s") + " an engine step of " +
+           number(s.step_seconds()) + " s can simulate (" + (linear ? "10^5 units" : "100 radians") +
+           " a step; more substeps per frame allow more)";
+}
+
 class BodyChecker {
 public:
     BodyChecker(const BodyDesc& body, const WorldSettings& settings, bool sectorized)
@@ -35,8 +43,20 @@ public:
         } else if (q.norm() < 1e-9) {
             fail("orientation", "is a zero quaternion");
         }
-        if (!body_.linear_velocity.allFinite()) fail("linear_velocity", "is not finite");
-        if (!body_.angular_velocity.allFinite()) fail("angular_velocity", "is not finite");
+        if (!body_.linear_velocity.allFinite()) {
+            fail("linear_velocity", "is not finite");
+        } else if (body_.linear_velocity.norm() > settings_.max_linear_speed()) {
+            fail("linear_velocity",
+                 "is too fast: " + speed_limit_breach("linear", body_.linear_velocity.norm(),
+                                                      settings_.max_linear_speed(), settings_));
+        }
+        if (!body_.angular_velocity.allFinite()) {
+            fail("angular_velocity", "is not finite");
+        } else if (body_.angular_velocity.norm() > settings_.max_angular_speed()) {
+            fail("angular_velocity",
+                 "is too fast: " + speed_limit_breach("angular", body_.angular_velocity.norm(),
+                                                      settings_.max_angular_speed(), settings_));
+        }
         finite_at_least("material.friction", body_.material.friction, 0.0);
         finite_at_least("material.restitution", body_.material.restitution, 0.0);
         if (body_.asleep) {
@@ -228,6 +248,23 @@ Status validate(const WorldSettings& s) {
 int WorldSettings::substeps_per_frame() const {
     if (substeps > 0) return substeps;
     return std::max(1, static_cast<int>(std::ceil(dt * 60.0 - 1e-9)));
+}
+
+double WorldSettings::step_seconds() const { return dt / substeps_per_frame(); }
+
+double WorldSettings::max_linear_speed() const { return 1e5 / step_seconds(); }
+
+double WorldSettings::max_angular_speed() const { return 100.0 / step_seconds(); }
+
+Status check_velocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const WorldSettings& s) {
+    if (!linear.allFinite() || !angular.allFinite()) return Error{"velocities must be finite"};
+    if (linear.norm() > s.max_linear_speed()) {
+        return Error{speed_limit_breach("linear", linear.norm(), s.max_linear_speed(), s)};
+    }
+    if (angular.norm() > s.max_angular_speed()) {
+        return Error{speed_limit_breach("angular", angular.norm(), s.max_angular_speed(), s)};
+    }
+    return {};
 }
 
 Status validate_body(const BodyDesc& body, const WorldSettings& settings, bool sectorized) {

@@ -392,6 +392,19 @@ Status World::apply_impulse(BodyId id, const Eigen::Vector3d& impulse, const Eig
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and takes no impulse"};
     Sector& sector = w.sector_of(rec);
     if (sector.remote) return Error{describe_body(*rec.desc) + ": is simulated by another worker"};
+    // The velocities the impulse would give, checked before it is applied, so that a refused one
+    // changes nothing.
+    // In double, so that an impulse beyond float's range is named as too fast, not as infinite.
+    const btRigidBody& rb = *rec.rb;
+    const Eigen::Vector3d linear = to_eigen(rb.getLinearVelocity()) + impulse * rb.getInvMass();
+    const btMatrix3x3& inv_inertia = rb.getInvInertiaTensorWorld();
+    const Eigen::Vector3d torque = offset.cross(impulse);
+    Eigen::Vector3d angular = to_eigen(rb.getAngularVelocity());
+    for (int r = 0; r < 3; ++r)
+        angular[r] += to_eigen(inv_inertia.getRow(r)).dot(torque);
+    if (Status st = check_velocity(linear, angular, w.settings); !st) {
+        return Error{describe_body(*rec.desc) + ": the impulse is too large: " + st.error().message};
+    }
     rec.rb->activate(true);
     rec.rb->applyImpulse(to_bt(impulse), to_bt(offset));
     w.wake(sector);
@@ -404,8 +417,8 @@ Status World::set_velocity(BodyId id, const Eigen::Vector3d& linear, const Eigen
     Expected<std::uint32_t> found = w.slot_of(id);
     if (!found) return found.error();
     BodyRecord& rec = w.record(found.value());
-    if (!linear.allFinite() || !angular.allFinite()) {
-        return Error{describe_body(*rec.desc) + ": velocities must be finite"};
+    if (Status st = check_velocity(linear, angular, w.settings); !st) {
+        return Error{describe_body(*rec.desc) + ": " + st.error().message};
     }
     if (!rec.dynamic) return Error{describe_body(*rec.desc) + ": is static and has no velocity"};
     Sector& sector = w.sector_of(rec);
@@ -429,6 +442,9 @@ Status World::set_state(const BodySnapshot& state) {
         !state.orientation.coeffs().allFinite() || state.orientation.norm() < 1e-9 ||
         !state.linear_velocity.allFinite() || !state.angular_velocity.allFinite()) {
         return Error{describe_body(*rec.desc) + ": state is not finite"};
+    }
+    if (Status st = check_velocity(state.linear_velocity, state.angular_velocity, w.settings); !st) {
+        return Error{describe_body(*rec.desc) + ": " + st.error().message};
     }
     // The body goes to the sector given, as its owner keeps it (past the border by up to the hysteresis
     // band): a ghost must not become this engine's own body by crossing a border its owner has not
@@ -783,7 +799,8 @@ Status World::check_consistency() const {
         }
         if (!in_world(*owner, &rb)) return fail(rec, "is not in its sector's physics world");
         // After sectorization a centre is within the band; a frame's motion may carry it further.
-        const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size : 0.0);
+        const double frame_motion = to_eigen(rb.getLinearVelocity()).norm() * w.settings.dt;
+        const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size + frame_motion : 0.0);
         if (rec.local.cwiseAbs().maxCoeff() > reach) return fail(rec, "lies far outside its sector");
         for (std::uint32_t other : rec.partners) {
             const BodyRecord& partner = w.bodies[other];

@@ -231,6 +231,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "linear_velocity is not finite"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { y: inf }",
                 "angular_velocity is not finite"},
+        // Bullet silently stops simulating a body this fast (1e10) or turns it NaN (spin 1e20).
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 linear_velocity { x: 1e10 }",
+                "linear_velocity is too fast: linear speed 1e+10 units/s is above the 6000000 units/s"},
+        BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 angular_velocity { z: -1e20 }",
+                "angular_velocity is too fast: angular speed 1e+20 rad/s is above the 6000 rad/s"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } asleep: true", "asleep applies to dynamic bodies only"},
         BadBody{"id: 2 shape { sphere { radius: 1 } } mass: 1 asleep: true linear_velocity { x: 1 }",
                 "asleep is at rest: a body starting asleep cannot have a velocity"},

@@ -100,10 +100,43 @@ TEST(World, BadBodiesAreRefusedAndTheWorldIsUnchanged) {
     EXPECT_NE(world.apply_impulse(1, {nan, 0, 0}).error().message.find("must be finite"), std::string::npos);
     EXPECT_NE(world.set_velocity(2, {0, 0, 0}, {0, INFINITY, 0}).error().message.find("must be finite"),
               std::string::npos);
+    // Finite but beyond what a step can simulate: refused with the limit, whichever call brings it.
+    EXPECT_NE(world.set_velocity(2, {0, 1e25, 0}, {0, 0, 0}).error().message.find("linear speed 1e+25"),
+              std::string::npos);
+    EXPECT_NE(world.set_velocity(2, {0, 0, 0}, {1e15, 0, 0}).error().message.find("angular speed 1e+15"),
+              std::string::npos);
+    EXPECT_NE(world.apply_impulse(2, {1e300, 0, 0}).error().message.find("the impulse is too large"),
+              std::string::npos);
+    EXPECT_NE(world.apply_impulse(2, {0, 1e4, 0}, {100, 0, 0}).error().message.find("angular speed"),
+              std::string::npos);
+    BodySnapshot too_fast = *world.body(2);
+    too_fast.linear_velocity = {7e6, 0, 0};
+    EXPECT_NE(world.set_state(too_fast).error().message.find("is above the 6000000 units/s"),
+              std::string::npos);
 
     EXPECT_TRUE(same_state(world.snapshot(), before));
     EXPECT_EQ(world.sectors(), sectors_before);
     EXPECT_EQ(world.body_count(), 2u);
+}
+
+TEST(World, BodiesAtTheSpeedLimitAreSimulatedNotDropped) {
+    // Just below the limits: Bullet must still move the body (it stops simulating one whose box swept
+    // in a step passes 10^6 units) and keep its state finite.
+    World world = empty_world();
+    ASSERT_TRUE(world.add_body(ball(1, {0, 0, 0})).ok());
+    const double v = 0.99 * WorldSettings{}.max_linear_speed();
+    const double spin = 0.99 * WorldSettings{}.max_angular_speed();
+    ASSERT_TRUE(world.set_velocity(1, {v, 0, 0}, {0, spin, 0}).ok());
+    run(world, 3);
+    const BodySnapshot after = *world.body(1);
+    const SectorGrid grid(WorldSettings{}.sector_size);
+    const double travelled = grid.to_global(after.position).x();
+    EXPECT_NEAR(travelled, 3 * v / 60.0, 1.0) << "it moved three frames at its speed";
+    EXPECT_TRUE(after.awake);
+    EXPECT_TRUE(after.angular_velocity.allFinite());
+    EXPECT_TRUE(after.orientation.coeffs().allFinite());
+    const Status consistent = world.check_consistency();
+    EXPECT_TRUE(consistent.ok()) << consistent.error().message;
 }
 
 TEST(World, SectorsAreCreatedOnFirstUseAndDestroyedWhenEmpty) {

@@ -27,7 +27,20 @@ struct WorldSettings {
 
     /// The substeps actually used (resolving 0).
     int substeps_per_frame() const;
+    /// Seconds per physics step: dt / substeps_per_frame().
+    double step_seconds() const;
+    /// The fastest a body may move: 10^5 units in one physics step. Bullet stops simulating a body whose
+    /// box swept in one step passes 10^6 units, silently, so faster bodies are refused, not lost.
+    double max_linear_speed() const;
+    /// The fastest a body may spin: 100 radians in one physics step. Faster, a body falls through its
+    /// contacts, and from about 10^15 rad/s its state turns NaN.
+    double max_angular_speed() const;
 };
+
+/// Refuses velocities that are not finite or above the settings' limits; the message names which and
+/// says how to allow more (substeps).
+Status check_velocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular,
+                      const WorldSettings& settings);
 
 /// Refuses non-finite or non-positive sizes and steps, a hysteresis outside [0, 1/4], and a sector size
 /// that breaks the precision bound. The message names the field.
