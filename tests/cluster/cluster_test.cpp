@@ -1002,6 +1002,22 @@ TEST(Cluster, CommandsFromTwoClientsAreOrderedAndBadOnesRefused) {
     refused(*a, a->spawn(twin), "id is used by another body");
     BodyDesc huge = scenes::sphere_body(40, 100.0, 1.0, Eigen::Vector3d(5, 5, 5));
     refused(*b, b->spawn(huge), "larger than a sector");
+    // Hostile numbers, as a buggy or malicious peer sends them: each refused with its reason.
+    refused(*a, a->apply_impulse(1, {1e300, 0, 0}), "the impulse is too large");
+    refused(*b, b->apply_impulse(1, {0, 1e3, 0}, {1e12, 0, 0}), "angular speed");
+    refused(*a, a->set_velocity(1, {0, 0, 1e25}, {0, 0, 0}), "linear speed 1e+25");
+    refused(*b, b->set_velocity(1, {0, 0, 0}, {0, -1e20, 0}), "angular speed 1e+20");
+    refused(*a, a->set_velocity(1, {0, 0, 0}, {0, INFINITY, 0}), "finite");
+    refused(*b, b->apply_impulse(~BodyId{0}, {1, 0, 0}), "unknown body id 18446744073709551615");
+    refused(*a, a->remove(~BodyId{0}), "unknown body id 18446744073709551615");
+    BodyDesc far = scenes::sphere_body(41, 0.5, 1.0, Eigen::Vector3d(5, 5, 5));
+    far.position = SectorPosition{SectorKey{INT64_MAX, INT64_MIN, 0}, Eigen::Vector3d::Zero()};
+    refused(*b, b->spawn(far), "beyond 2^62");
+    BodyDesc beyond = scenes::sphere_body(41, 0.5, 1.0, Eigen::Vector3d(1e300, 0, 0));
+    refused(*a, a->spawn(beyond), "beyond sector index 2^62");
+    BodyDesc spinning = scenes::sphere_body(41, 0.5, 1.0, Eigen::Vector3d(5, 5, 5));
+    spinning.angular_velocity = Eigen::Vector3d(1e300, 0, 0);
+    refused(*b, b->spawn(spinning), "angular_velocity is too fast");
     auto later = collect(*a, before.frame + 10, std::chrono::seconds(10));
     const WorldFrame& now = later.rbegin()->second;
     ASSERT_EQ(now.bodies.size(), before.bodies.size());
