@@ -54,6 +54,8 @@ struct Client::State {
         std::vector<SectorKey> written;
         std::uint32_t planes = 0;
         std::optional<std::vector<std::pair<SectorKey, std::uint64_t>>> inventory;
+        std::uint64_t started_ns = 0;
+        double time_lost = 0.0;
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
     /// The coordinator's mark of the world's first state (frame 0): a client there from the start follows
@@ -191,6 +193,8 @@ void Client::State::take() {
             if (follows(key)) mark.written.push_back(key);
         }
         mark.planes = m.planes();
+        mark.started_ns = m.started_ns();
+        mark.time_lost = m.time_lost();
         for (const wire::SectorInventory& inventory : m.inventories()) {
             // Answers to this client's request, or the inventories a worker gives when a reader joins.
             const bool for_me =
@@ -577,6 +581,16 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         s.applied = show;
         s.unconfirmed.clear();  // complete() found each of them held
         out.push_back(s.options.content == FrameContent::changes ? s.changes_view(show) : s.frame_view(show));
+        // Every worker's mark of a frame carries the coordinator's start of it.
+        for (std::uint32_t w : *s.workers_of(show)) {
+            auto it = s.marks.find({w, show});
+            if (it == s.marks.end()) continue;
+            out.back().started = std::chrono::system_clock::time_point(
+                std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                    std::chrono::nanoseconds(it->second.started_ns)));
+            out.back().time_lost_s = it->second.time_lost;
+            break;
+        }
     }
     for (auto it = s.marks.begin(); it != s.marks.end();)
         it = it->first.second <= s.applied ? s.marks.erase(it) : std::next(it);

@@ -57,6 +57,8 @@ public:
                 "lost in all)",
                 frame, late, lost_);
     }
+    /// Seconds of real time let go so far.
+    double lost() const { return lost_; }
 
 private:
     static constexpr double kCatchUpFrames = 3.0;
@@ -780,6 +782,10 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.commands(s.commands);
         go.command_sequence(s.command_order);
         if (o.realtime) pacer.pace(f);
+        go.started_ns(static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                     std::chrono::system_clock::now().time_since_epoch())
+                                                     .count()));
+        go.time_lost(pacer.lost());
         s.go_out->write(go);
         // While the workers step: the copy of the world catches up with the frame before, off the path
         // from one frame's end to the next one's start.

@@ -69,6 +69,8 @@ struct Worker::State {
     Halo halo;
     std::uint64_t frame = 0;
     std::uint32_t degraded = 0;
+    std::uint64_t frame_started_ns = 0;  ///< the FrameGo's, passed on in the mark
+    double time_lost = 0.0;
 
     dds::WholeSectorAsks wanted_whole;  ///< other workers' sectors whose partial samples were refused
     std::uint64_t whole_requests = 0;
@@ -522,6 +524,8 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
     received_bytes.erase(received_bytes.begin(), received_bytes.upper_bound(frame - 1));
     m.resident_bytes(resident_bytes);
     m.degraded(degraded);
+    m.started_ns(frame_started_ns);
+    m.time_lost(time_lost);
     marks_out->write(m);
 }
 
@@ -588,6 +592,8 @@ int Worker::run(const std::atomic<bool>& stop) {
         if (!s.world && !s.start_world(go, stop)) return 4;
         const auto wait_start = Clock::now();
         s.frame = go.frame();
+        s.frame_started_ns = go.started_ns();
+        s.time_lost = go.time_lost();
         // The other workers' data of the previous frame, within a bounded wait.
         s.announce(go);
         while (!s.gate.whole(s.frame - 1, go.ended(), go.coordinator_wrote(), s.chain) && !stop.load()) {

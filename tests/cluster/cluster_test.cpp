@@ -566,6 +566,22 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
         "largest difference from lpss-sim %.3g (before and after: %.3g)\n",
         static_cast<unsigned long long>(killed_at), pause, static_cast<unsigned long long>(checked_after),
         worst_after, worst);
+    // Real time after the pause: the time lost is reported with the frames, and the frames after it come
+    // at the scene's rate, not in a burst that catches up on the wall time lost.
+    const double lost = frames.rbegin()->second.time_lost_s - frames.at(killed_at).time_lost_s;
+    const auto first_after = frames.lower_bound(killed_at + 5);
+    const auto last_after = std::prev(frames.upper_bound(killed_at + 125));
+    ASSERT_TRUE(first_after != frames.end() && last_after->first > first_after->first + 60);
+    const double spacing =
+        std::chrono::duration<double>(last_after->second.started - first_after->second.started).count() /
+        static_cast<double>(last_after->first - first_after->first);
+    std::printf(
+        "real time lost to the kill, as reported with the frames: %.3f s; frames after it %.2f ms apart\n",
+        lost, 1e3 * spacing);
+    EXPECT_GE(lost, 0.2) << "the pause is reported";
+    EXPECT_LE(lost, pause + 0.1) << "no more than the pause a client saw";
+    EXPECT_GE(spacing, 0.95 / 60.0) << "no burst to catch up";
+    EXPECT_LE(spacing, 1.5 / 60.0);
     EXPECT_LE(worst, 1e-3);
     EXPECT_LT(pause, 1.0) << "the world goes on within a second of the kill";
     EXPECT_GE(checked_after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";

@@ -61,6 +61,12 @@ struct WorldFrame {
     std::vector<BodyView> bodies;
     std::vector<BodyId> departed;  ///< with FrameContent::changes: gone since the frame before
     bool every_body = true;        ///< `bodies` holds every body of the region (a first frame of changes)
+    /// When the coordinator started the frame (wall clock): frames of a --realtime cluster come dt apart,
+    /// and a pause shows as a longer gap.
+    std::chrono::system_clock::time_point started{};
+    /// Seconds of real time a --realtime cluster has let go so far: after a pause (a worker gone, a slow
+    /// frame) it goes on at the scene's rate from where it is instead of catching up in a burst.
+    double time_lost_s = 0.0;
 };
 
 /// What became of a command.
