@@ -108,6 +108,19 @@ struct Coordinator::State {
     std::map<std::uint32_t, Clock::time_point> last_heard;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
     std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
+    /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
+    /// join; then, once given sectors, the frame from which they are live.
+    std::set<std::uint32_t> joining;
+    std::map<std::uint32_t, std::uint64_t> admitted;
+    /// The workers sectors can go to: the live ones and those admitted.
+    std::set<std::uint32_t> members() const {
+        std::set<std::uint32_t> out = live;
+        for (const auto& [w, from] : admitted)
+            out.insert(w);
+        return out;
+    }
+    /// Gives the workers that asked to join sectors from frame f + 2 (their owners send them whole at f + 1).
+    void admit(std::uint64_t f);
     /// The load of each block with bodies, as its owner last reported it. A worker's report replaces what
     /// it reported before: a block it no longer reports has emptied, or another worker reports it.
     struct ReportedLoad {
@@ -148,7 +161,7 @@ struct Coordinator::State {
     /// Sends the sectors of a worker that is gone, as of frame f, to their holders under `fresh`; when it did
     /// not finish frame f (`unfinished`), that frame is stepped again here first.
     void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh, bool unfinished);
-    SectorAssignment balanced() const;
+    SectorAssignment balanced(const std::set<std::uint32_t>& workers) const;
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
     SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
@@ -256,6 +269,11 @@ void Coordinator::State::pump() {
         if (!info.valid_data || m.worker() == 0) return;
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
+        // A frame-0 mark naming an epoch, once the world runs: a worker asking to join (see Worker::join).
+        if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !live.count(m.worker()) &&
+            !admitted.count(m.worker()) && joining.insert(m.worker()).second) {
+            spdlog::info("coordinator: worker {} asks to join at frame {}", m.worker(), frame);
+        }
         if (m.loads_reported()) {
             for (auto it = block_loads.begin(); it != block_loads.end();)
                 it = it->second.worker == m.worker() ? block_loads.erase(it) : std::next(it);
@@ -555,8 +573,12 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
 void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why) {
     const double into_frame = seconds_since(frame_started);
     live.erase(w);
+    // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
+    lost.erase(w);
+    for (auto it = writer_of.begin(); it != writer_of.end();)
+        it = it->second == w ? writer_of.erase(it) : std::next(it);
     if (live.empty()) return;
-    SectorAssignment fresh = balanced();
+    SectorAssignment fresh = balanced(members());
     fresh.epoch = next.epoch + 1;
     fresh.from_frame = f + 1;
     const bool unfinished = !marks.count({w, f});
@@ -719,7 +741,19 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
         it = it->first.second < f ? marks.erase(it) : std::next(it);
 }
 
-SectorAssignment Coordinator::State::balanced() const {
+void Coordinator::State::admit(std::uint64_t f) {
+    std::set<std::uint32_t> workers = members();
+    std::string names;
+    for (std::uint32_t w : joining) {
+        workers.insert(w);
+        admitted[w] = f + 2;
+        names += (names.empty() ? "" : ", ") + std::to_string(w);
+    }
+    joining.clear();
+    reassign(balanced(workers), f + 2, ("worker(s) " + names + " joined").c_str());
+}
+
+SectorAssignment Coordinator::State::balanced(const std::set<std::uint32_t>& workers) const {
     std::vector<std::pair<SectorKey, double>> loads;
     for (const auto& [block, reported] : block_loads) {
         // A block's load stands for its first sector: balanced() groups sectors into the same blocks.
@@ -731,7 +765,7 @@ SectorAssignment Coordinator::State::balanced() const {
         for (const auto& [key, bodies] : mirror.sectors())
             loads.push_back({key, static_cast<double>(bodies.size())});
     }
-    return SectorAssignment::balanced(loads, std::vector<std::uint32_t>(live.begin(), live.end()),
+    return SectorAssignment::balanced(loads, std::vector<std::uint32_t>(workers.begin(), workers.end()),
                                       options.block_size);
 }
 
@@ -772,6 +806,15 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         go.coordinator(1);
         go.frame(f);
         if (s.next.from_frame <= f) s.current = s.next;
+        for (auto it = s.admitted.begin(); it != s.admitted.end();) {
+            if (it->second > f) {
+                ++it;
+                continue;
+            }
+            s.live.insert(it->first);
+            s.last_heard[it->first] = Clock::now();
+            it = s.admitted.erase(it);
+        }
         go.epoch(s.current.epoch);
         go.next(dds::to_wire(s.next, s.settings, s.largest_radius));
         go.planes(static_cast<std::uint32_t>(s.planes.size()));
@@ -819,6 +862,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         // the world by now: their buffers are free.
         if (f == 3) runtime::give_back_free_memory();
         s.collect_handoffs(f);
+        if (!s.joining.empty() && s.next.epoch == s.current.epoch) s.admit(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&
             s.next.epoch == s.current.epoch) {
             auto heaviest = [](const std::map<std::uint32_t, double>& loads) {
@@ -836,7 +880,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             if (mean > 0.0 && most > o.rebalance_threshold * mean) {
                 // Moving sectors costs complete samples: only for a clear gain, else a load that shifts back
                 // and forth would move the same sectors back and forth.
-                SectorAssignment fresh = s.balanced();
+                SectorAssignment fresh = s.balanced(s.members());
                 const double after = heaviest(s.worker_loads(fresh));
                 if (after <= kRebalanceGain * most) {
                     spdlog::info(

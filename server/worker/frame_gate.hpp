@@ -25,6 +25,8 @@ public:
 
     /// The coordinator's word for `frame`, if it has come.
     const wire::FrameGo* go(std::uint64_t frame) const;
+    /// The coordinator's latest word, whatever its frame: what a worker joining a running cluster looks at.
+    const wire::FrameGo* latest() const { return gos_.empty() ? nullptr : &gos_.rbegin()->second; }
     /// Drops the words for frames up to `frame`, once that frame has started.
     void started(std::uint64_t frame);
 

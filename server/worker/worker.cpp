@@ -103,6 +103,19 @@ struct Worker::State {
     bool coordinator_present() const { return go_in->matched() > 0; }
     void pump();
     bool start_world(const wire::FrameGo& go, const std::atomic<bool>& stop);
+    // Joining a running cluster (a new worker, or one restarted under the id of one that is gone): it asks
+    // with a frame-0 mark naming the assignment it saw in force; the coordinator gives it sectors from a
+    // later frame, and their owners send them whole at the frame before, as in any rebalance.
+    enum class Joining { waiting, joined, failed };
+    Joining join(const wire::FrameGo& latest);
+    bool asked_to_join = false;
+    SectorAssignment joined_from;  ///< in force when it asked: its sectors' owners before it
+    /// Samples of frames before it asked are history of the cluster before it joined (a restarted worker's
+    /// old sectors, in the coordinator's first state): never applied.
+    std::uint64_t sample_floor = 0;
+    std::set<std::uint32_t>
+        heard;  ///< workers whose marks reached it: their writers have matched its readers
+    Clock::time_point join_noted = Clock::now();  ///< when it last said why it waits to join
     void apply_samples(std::uint64_t up_to, const std::vector<std::pair<std::uint64_t, BodyDesc>>& also = {});
     void apply_go(const wire::FrameGo& go);
     /// Takes note of the assignment the coordinator announces (it takes effect at its from_frame).
@@ -192,10 +205,12 @@ void Worker::State::pump() {
                 {r.reader(), r.request(), dds::from_wire(r.lo()), dds::from_wire(r.hi())});
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
-        if (info.valid_data) gate.take_mark(m);
+        if (!info.valid_data) return;
+        gate.take_mark(m);
+        if (!world && m.frame() > 0) heard.insert(m.worker());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || f.worker() == options.id) return;
+        if (!info.valid_data || f.worker() == options.id || f.frame() < sample_floor) return;
         received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
         if (chain.stale(f)) return;
         // A refused sample (its base missing: lost to newer ones on a loaded machine) is not applied; the
@@ -306,6 +321,90 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
                  world->body_count(), world->sectors().size(),
                  std::chrono::duration<double>(Clock::now() - started).count());
     return true;
+}
+
+Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
+    const SectorAssignment announced = dds::from_wire(latest.next());
+    if (announced.epoch == latest.epoch()) {
+        // No change under way: ask, once for each assignment seen in force (an answer may be a change made
+        // for another reason, such as a worker gone, that leaves this one out).
+        if (asked_to_join && joined_from.epoch == announced.epoch) return Joining::waiting;
+        // Not before every worker and the coordinator can reach it and it them: its first frame needs their
+        // samples at once, and discovery that matched one side only took seconds at times (seen: a joiner
+        // that started its first frame without its sectors, 2 s later, and showed bodies twice).
+        const int peers = static_cast<int>(announced.workers.size()) + 1;
+        bool reachable = frames_in->matched() >= peers && marks_in->matched() >= peers &&
+                         frames_out->matched() >= peers && marks_out->matched() >= peers;
+        for (std::uint32_t w : announced.workers)
+            reachable = reachable && (w == options.id || heard.count(w));
+        if (!reachable) {
+            if (Clock::now() - join_noted > std::chrono::seconds(5)) {
+                join_noted = Clock::now();
+                std::string heard_from;
+                for (std::uint32_t w : heard)
+                    heard_from += " " + std::to_string(w);
+                spdlog::info(
+                    "worker {}: waiting to reach the cluster's {} workers and coordinator before joining: "
+                    "matched {} sector writers, {} mark writers, {} readers of its sectors, {} of its marks; "
+                    "marks heard from workers{}",
+                    options.id, announced.workers.size(), frames_in->matched(), marks_in->matched(),
+                    frames_out->matched(), marks_out->matched(), heard_from);
+            }
+            return Joining::waiting;
+        }
+        if (!asked_to_join)
+            spdlog::info("worker {}: the cluster is running (frame {}): asking to join", options.id,
+                         latest.frame());
+        asked_to_join = true;
+        joined_from = announced;
+        // What came before is history: the coordinator's first state and restored sectors, addressed to a
+        // worker of this id that is gone (seen: a restarted worker showed a body where it was at frame 0).
+        sample_floor = latest.frame();
+        samples.clear();
+        chain = dds::SectorChain();
+        wanted_whole = dds::WholeSectorAsks();
+        wire::WorkerFrame ask;
+        ask.worker(options.id);
+        ask.frame(0);
+        ask.epoch(announced.epoch);
+        marks_out->write(ask);
+        return Joining::waiting;
+    }
+    if (!asked_to_join) return Joining::waiting;
+    if (std::find(announced.workers.begin(), announced.workers.end(), options.id) == announced.workers.end())
+        return Joining::waiting;
+    if (announced.from_frame <= latest.frame()) {
+        spdlog::error("worker {}: given sectors from frame {}, but frame {} has started already", options.id,
+                      announced.from_frame, latest.frame());
+        return Joining::failed;
+    }
+    if (early_planes.size() < latest.planes()) return Joining::waiting;
+    const WorldSettings settings = dds::from_wire(latest.next().settings());
+    EngineOptions engine;
+    engine.threads = options.threads;
+    engine.owns = [this](const SectorKey& key) { return halo.owns(key); };
+    Expected<World> created = World::create(settings, engine);
+    if (!created) {
+        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id,
+                      created.error().message);
+        return Joining::failed;
+    }
+    world.emplace(std::move(created).value());
+    halo.follow(joined_from, announced, latest.next().largest_radius());
+    std::vector<std::pair<std::uint64_t, BodyDesc>> ranked_planes;
+    for (const auto& [id, plane] : early_planes) {
+        ranked_planes.push_back(plane);
+        planes.insert(id);
+    }
+    halo.apply(*world, {}, ranked_planes);
+    early_planes.clear();
+    // It is as if it had ended the frame before its sectors become its own: that frame's samples (its
+    // sectors whole, and its halo) are the ones it starts from.
+    frame = announced.from_frame - 1;
+    gate.started(frame);
+    spdlog::info("worker {}: joins the cluster with sectors of epoch {} from frame {}", options.id,
+                 announced.epoch, announced.from_frame);
+    return Joining::joined;
 }
 
 void Worker::State::apply_command(const wire::Command& c, std::uint64_t order) {
@@ -548,6 +647,21 @@ int Worker::run(const std::atomic<bool>& stop) {
         s.pump();
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
         if (next == nullptr) {
+            // A cluster already running when this worker came (it sees no frame 1 but later ones): it joins.
+            if (const wire::FrameGo* latest = s.gate.latest();
+                !s.world && latest != nullptr && latest->frame() > 1) {
+                if (latest->stop()) {
+                    spdlog::info("worker {}: the cluster stopped before this worker joined it", id);
+                    return 0;
+                }
+                const State::Joining joining = s.join(*latest);
+                if (joining == State::Joining::failed) return 4;
+                if (joining == State::Joining::waiting) {
+                    s.gate.started(latest->frame() - 1);  // keeps only the latest word
+                    s.inbox.wait(std::chrono::milliseconds(20));
+                }
+                continue;
+            }
             if (!s.world) {
                 // A coordinator loading a large world says nothing for a while: wait as long as it is there.
                 if (s.coordinator_present()) {

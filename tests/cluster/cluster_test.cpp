@@ -184,11 +184,15 @@ public:
             // The coordinator's samples (worker 0) hold the sectors not written since the first state.
             if (!info.valid_data || chain_.stale(f)) return;
             if (!f.complete()) ++partial;
+            const SectorKey key = dds::from_wire(f.sector());
             if (!chain_.accept(f)) {
-                wanted_.want(dds::from_wire(f.sector()));
+                wanted_.want(key);
+                broken_.emplace(key, Broken{f.frame(), 0});  // the first refusal counts
                 return;
             }
-            wanted_.got(dds::from_wire(f.sector()));
+            wanted_.got(key);
+            if (auto b = broken_.find(key); b != broken_.end() && f.complete() && b->second.mended == 0)
+                b->second.mended = f.frame();
             pending_[f.frame()].push_back(f);
         });
         wire::SectorRequest whole;
@@ -236,6 +240,16 @@ public:
                 }
             }
             if (!held && !mending) break;
+            // A sector whose sample was refused holds an unknown state from that sample's frame until a
+            // whole one mends it, in the frames that do not write it too.
+            for (auto b = broken_.begin(); b != broken_.end();) {
+                if (b->second.mended != 0 && b->second.mended <= next_) {
+                    b = broken_.erase(b);
+                    continue;
+                }
+                held = held && b->second.since > next_;
+                ++b;
+            }
             std::vector<const wire::SectorFrame*> batch;
             const auto end = pending_.upper_bound(next_);
             for (auto p = pending_.begin(); p != end; ++p) {
@@ -299,6 +313,11 @@ private:
     std::vector<std::uint8_t> seen_;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending_;
     std::map<std::uint64_t, std::map<std::uint32_t, std::vector<SectorKey>>> marks_by_frame_;
+    struct Broken {
+        std::uint64_t since = 0;   ///< the frame of its first refused sample
+        std::uint64_t mended = 0;  ///< the frame of the whole sample after it (0: not yet)
+    };
+    std::map<SectorKey, Broken> broken_;
 };
 
 TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
@@ -597,6 +616,136 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     const double seconds = std::stod(text.substr(text.rfind(", ", into) + 2));
     EXPECT_LE(seconds, 0.6) << "found within the lease (and the frame it died in)";
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
+}
+
+/// The largest body count each worker reported in a mark of a frame after `after`: which workers
+/// simulate something, read from the wire.
+class BodiesPerWorker {
+public:
+    explicit BodiesPerWorker(int domain) {
+        auto p = dds::Participant::create(domain, "", "bodies-per-worker");
+        EXPECT_TRUE(p.ok());
+        participant_ = std::move(p).value();
+        marks_ = std::make_unique<dds::Reader<wire::WorkerFrame>>(
+            *participant_, participant_->topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames),
+            dds::reader_qos(dds::Delivery{true, 256}), &inbox_);
+    }
+    ~BodiesPerWorker() { marks_.reset(); }
+    void poll(std::uint64_t after) {
+        marks_->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || m.worker() == 0 || m.frame() <= after) return;
+            std::uint32_t& most = most_[m.worker()];
+            most = std::max(most, m.bodies());
+        });
+    }
+    std::uint32_t most(std::uint32_t worker) const {
+        auto it = most_.find(worker);
+        return it == most_.end() ? 0 : it->second;
+    }
+
+private:
+    dds::Inbox inbox_;
+    std::unique_ptr<dds::Participant> participant_;
+    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_;
+    std::map<std::uint32_t, std::uint32_t> most_;
+};
+
+TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
+    // Worker 2 of 3 is killed, then started again under its id; later a fourth worker comes. Each asks to
+    // join, is given sectors from a later frame, and builds them from their owners' whole samples: every
+    // body stays exactly once, within the cluster's bound of lpss-sim, in every frame a client sees, and
+    // both newcomers end up simulating bodies.
+    Scene scene = crossing_scene();
+    for (int n = 0; n < 6; ++n) {
+        BodyDesc far = scenes::sphere_body(40 + n, 0.5, 1.0, Eigen::Vector3d((8 + 4 * n) * kL, 0, 0));
+        far.linear_velocity = Eigen::Vector3d(0, 0.5, 0);
+        scene.bodies.push_back(far);
+    }
+    const int domain = 142;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "joins");
+    constexpr std::uint64_t kFrames = 900;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "joins");
+    ASSERT_TRUE(client);
+    BodiesPerWorker owners(domain);
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::uint64_t killed_at = kFrames;
+    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
+        const auto end = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
+            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5)))
+                frames[f.frame] = std::move(f);
+            owners.poll(killed_at + 10);  // worker 2's marks after the kill: the restarted one's
+        }
+    };
+    gather(150, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    const std::string kill = "pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
+    ASSERT_EQ(std::system(kill.c_str()), 0);
+    killed_at = frames.rbegin()->first;
+    gather(killed_at + 60, std::chrono::seconds(60));
+    auto start_worker = [&](int id) {
+        return runtime::ChildProcess::start(LPSS_WORKER,
+                                            {"--domain", std::to_string(domain), "--id", std::to_string(id)},
+                                            cluster.log_dir + ".joined" + std::to_string(id));
+    };
+    auto restarted = start_worker(2);
+    ASSERT_TRUE(restarted);
+    gather(killed_at + 250, std::chrono::seconds(60));
+    auto newcomer = start_worker(4);
+    ASSERT_TRUE(newcomer);
+    gather(kFrames, std::chrono::seconds(90));
+    ASSERT_EQ(frames.rbegin()->first, kFrames);
+
+    const SectorGrid grid(kL);
+    double worst = 0.0;
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        std::string ids;
+        for (const BodyView& b : frame.bodies)
+            ids += " " + std::to_string(b.id) + "@" + std::to_string(b.position.sector.i) + "," +
+                   std::to_string(b.position.sector.j) + "," + std::to_string(b.position.sector.k);
+        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f << ", bodies" << ids;
+        for (const BodyView& b : frame.bodies) {
+            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+        }
+    }
+    std::printf(
+        "worker 2 killed after frame %llu, restarted, and worker 4 added: %zu frames seen, largest "
+        "difference from lpss-sim %.3g; most bodies simulated after they joined: worker 2 %u, worker 4 %u\n",
+        static_cast<unsigned long long>(killed_at), frames.size(), worst, owners.most(2), owners.most(4));
+    EXPECT_LE(worst, 1e-3);
+    std::string unseen;
+    for (std::uint64_t f = frames.begin()->first; f <= kFrames; ++f) {
+        if (frames.count(f)) continue;
+        std::uint64_t to = f;
+        while (to < kFrames && !frames.count(to + 1))
+            ++to;
+        unseen += " " + std::to_string(f) + "-" + std::to_string(to);
+        f = to;
+    }
+    std::printf("frames the client did not see:%s\n", unseen.empty() ? " none" : unseen.c_str());
+    EXPECT_GE(frames.size(), kFrames * 9 / 10) << "the client saw most frames";
+    EXPECT_GT(owners.most(2), 0u) << "the restarted worker simulates bodies";
+    EXPECT_GT(owners.most(4), 0u) << "the new worker simulates bodies";
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
+    EXPECT_TRUE(newcomer->wait(std::chrono::seconds(20)));
+    EXPECT_EQ(restarted->exit_code().value_or(-1), 0);
+    EXPECT_EQ(newcomer->exit_code().value_or(-1), 0);
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
+    EXPECT_NE(text.find("worker 2 asks to join"), std::string::npos) << text;
+    EXPECT_NE(text.find("worker 4 asks to join"), std::string::npos) << text;
+    for (int id : {2, 4}) {
+        const std::string log = read_file(cluster.log_dir + ".joined" + std::to_string(id));
+        EXPECT_NE(log.find("joins the cluster with sectors"), std::string::npos) << log;
+    }
 }
 
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
