@@ -8,6 +8,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sample_check.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
@@ -63,6 +64,10 @@ struct Client::State {
     std::optional<std::vector<SectorKey>> first_state;
     /// Workers whose hello (their mark of frame 0) came: their marks writer knows this client's reader.
     std::set<std::uint32_t> hellos;
+    /// The newest frame a worker has ended, as far as this client knows: samples much newer are garbage.
+    static constexpr std::uint64_t kNoMarkYet = ~std::uint64_t{0} - dds::kFramesAhead;
+    std::uint64_t newest_mark = kNoMarkYet;
+    dds::RefusedSamples refused_samples{"client"};
     std::uint64_t inventory_request = 0;  ///< 0: not asked yet
     std::chrono::steady_clock::time_point inventory_asked;
     bool synced = false;                        ///< the inventories are in: frames follow from `applied`
@@ -206,12 +211,15 @@ void Client::State::take() {
                 if (follows(key)) mark.inventory->emplace_back(key, st.frame());
             }
         }
+        newest_mark = newest_mark == kNoMarkYet ? m.frame() : std::max(newest_mark, m.frame());
         marks[{m.worker(), m.frame()}] = std::move(mark);
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         // The coordinator's samples hold the world's first state, of sectors not written since (and the
         // state of a dead worker's sectors, for their next owner).
         if (!info.valid_data || chain.stale(f)) return;
+        if (std::string why = dds::implausible(f, newest_mark); !why.empty())
+            return refused_samples.refuse(why);
         if (!chain.accept(f)) {
             wanted_whole.want(dds::from_wire(f.sector()));
             return;

@@ -18,6 +18,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sample_check.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
@@ -98,6 +99,7 @@ struct Coordinator::State {
     /// leaves behind, restored to the workers that take its sectors over.
     dds::SectorMirror mirror;
     dds::SectorChain chain;
+    dds::RefusedSamples refused_samples{"coordinator"};
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
 
     SectorAssignment current;
@@ -285,6 +287,7 @@ void Coordinator::State::pump() {
     sectors_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         // Its own samples (worker 0) are in the mirror already.
         if (!info.valid_data || f.worker() == 0) return;
+        if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
         if (chain.accept(f)) samples[f.frame()].push_back(f);
     });
     // A worker whose lease expired and that came back before it was taken as gone (a late beat on a loaded

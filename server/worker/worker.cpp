@@ -21,6 +21,7 @@
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sample_check.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_publisher.hpp"
 #include "lpss_dds/topics.hpp"
@@ -113,6 +114,7 @@ struct Worker::State {
     /// Samples of frames before it asked are history of the cluster before it joined (a restarted worker's
     /// old sectors, in the coordinator's first state): never applied.
     std::uint64_t sample_floor = 0;
+    dds::RefusedSamples refused_samples{"worker " + std::to_string(options.id)};
     std::set<std::uint32_t>
         heard;  ///< workers whose marks reached it: their writers have matched its readers
     Clock::time_point join_noted = Clock::now();  ///< when it last said why it waits to join
@@ -211,6 +213,10 @@ void Worker::State::pump() {
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || f.worker() == options.id || f.frame() < sample_floor) return;
+        const wire::FrameGo* latest = gate.latest();
+        if (std::string why = dds::implausible(f, std::max(frame, latest ? latest->frame() : 0));
+            !why.empty())
+            return refused_samples.refuse(why);
         received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
         if (chain.stale(f)) return;
         // A refused sample (its base missing: lost to newer ones on a loaded machine) is not applied; the

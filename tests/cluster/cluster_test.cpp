@@ -140,6 +140,86 @@ void compare_with_sim(int workers, int domain) {
 }
 
 TEST(Cluster, OneWorkerMatchesLpssSimBitForBit) { compare_with_sim(1, 120); }
+
+TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
+    // A peer on the domain (no DDS Security) writes sector samples to every worker while the world runs: a
+    // frame far in the future (it would freeze its sector: every later real sample stale), NaN states, a
+    // sector key beyond the grid, a body id no one has. The world runs as lpss-sim runs it, no foreign body
+    // ever shows, and every reader logs the refusals with their reason.
+    const int domain = 143;
+    const testing::DomainCleanup cleanup(domain);
+    const Scene scene = crossing_scene();
+    const std::string path = write_scene(scene, "garbage");
+    constexpr int kFrames = 240;
+    auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1u);
+    auto client = connect(domain, "garbage");
+    auto peer = dds::Participant::create(domain, "", "a-peer-writing-garbage");
+    ASSERT_TRUE(peer.ok());
+    dds::Writer<wire::SectorFrame> garbage(**peer,
+                                           (*peer)->topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+                                           dds::writer_qos(dds::kSectorFrameDelivery));
+    ASSERT_TRUE(garbage.ok());
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
+    ASSERT_TRUE(cluster.process);
+    auto sample = [](const SectorKey& key, std::uint64_t frame, BodyId id, float x) {
+        wire::SectorFrame f;
+        f.sector(dds::to_wire(key));
+        f.recipients({1, 2});
+        f.frame(frame);
+        f.base(frame);
+        f.worker(7);  // no such worker (one claiming a worker's own id is dropped by it, taken as its own)
+        f.complete(true);
+        BodySnapshot b;
+        b.id = id;
+        b.position = SectorPosition{key, Eigen::Vector3d(x, 0, 0)};
+        f.bodies().push_back(dds::to_wire(b));
+        f.kinds().emplace_back();
+        f.kinds().back().id(id);
+        return f;
+    };
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::uint64_t written = 0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < kFrames)) {
+        std::vector<WorldFrame> got = client->poll(std::chrono::milliseconds(10));
+        for (WorldFrame& f : got)
+            frames[f.frame] = std::move(f);
+        if (got.empty() && written > 0) continue;  // a batch a frame
+        const std::uint64_t now = frames.empty() ? 1 : frames.rbegin()->first + 1;
+        garbage.write(sample({0, 0, 0}, std::uint64_t{1} << 62, 9999, 1.0f));
+        wire::SectorFrame nan = sample({1, 0, 0}, now, 9998, 1.0f);
+        nan.bodies()[0].position().x(std::nanf(""));
+        garbage.write(nan);
+        garbage.write(sample({INT64_MAX, 0, 0}, now, 9997, 1.0f));
+        written += 3;
+    }
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    ASSERT_FALSE(frames.empty());
+    EXPECT_EQ(frames.rbegin()->first, static_cast<std::uint64_t>(kFrames));
+    EXPECT_GE(frames.size(), kFrames * 9u / 10u);
+    double worst = 0.0;
+    const SectorGrid grid(kL);
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
+        for (const BodyView& b : frame.bodies) {
+            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << ": body " << b.id << " is not in the world";
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+        }
+    }
+    std::printf("%llu garbage samples written over %zu frames; largest difference from lpss-sim %.3g\n",
+                static_cast<unsigned long long>(written), frames.size(), worst);
+    EXPECT_LE(worst, 1e-3);
+    for (const char* log : {"worker-1.log", "worker-2.log", "coordinator.log"}) {
+        const std::string text = read_file(cluster.log_dir + "/" + log);
+        EXPECT_NE(text.find("frame is ahead of the newest started"), std::string::npos) << log << ":\n"
+                                                                                        << text;
+        EXPECT_NE(text.find("has a state that is not finite"), std::string::npos) << log;
+        EXPECT_NE(text.find("sector index beyond 2^62"), std::string::npos) << log;
+    }
+}
 TEST(Cluster, TwoWorkersMatchLpssSim) { compare_with_sim(2, 121); }
 TEST(Cluster, ThreeWorkersMatchLpssSim) { compare_with_sim(3, 122); }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "lpss_dds/convert.hpp"
+#include "lpss_dds/sample_check.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 
@@ -108,6 +109,37 @@ TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
     const wire::SectorFrame empty = complete(13, {});
     mirror.apply({&empty});
     EXPECT_TRUE(mirror.sectors().empty());
+}
+
+TEST(SampleCheck, GarbageFromAPeerIsRefusedWithItsReason) {
+    // A real sample of the frame being stepped, or the next one, passes; each kind of garbage a peer on the
+    // domain could write is named.
+    const auto with_kind = [](wire::SectorFrame f) {
+        f.kinds().resize(f.bodies().size());
+        return f;
+    };
+    EXPECT_EQ(implausible(with_kind(complete(100, {state_of(1, 2.0)})), 100), "");
+    EXPECT_EQ(implausible(with_kind(complete(102, {state_of(1, 2.0)})), 100), "");
+    EXPECT_EQ(implausible(partial(101, 90, {state_of(1, 2.0)}), 100), "");
+    auto why = [](const wire::SectorFrame& f) { return implausible(f, 100); };
+    EXPECT_NE(why(with_kind(complete(~std::uint64_t{0}, {}))).find("ahead of the newest started (100)"),
+              std::string::npos);
+    EXPECT_NE(why(with_kind(complete(103, {}))).find("ahead"), std::string::npos);
+    wire::SectorFrame far = with_kind(complete(100, {}));
+    far.sector(to_wire(SectorKey{INT64_MAX, 0, 0}));
+    EXPECT_NE(why(far).find("sector index beyond 2^62"), std::string::npos);
+    wire::BodyState nan = state_of(7, 1.0);
+    nan.linear_velocity().y(std::nanf(""));
+    EXPECT_NE(why(with_kind(complete(100, {nan}))).find("body 7 has a state that is not finite"),
+              std::string::npos);
+    wire::BodyState zero = state_of(8, 1.0);
+    zero.orientation(wire::Quatf{});
+    EXPECT_NE(why(with_kind(complete(100, {zero}))).find("body 8"), std::string::npos);
+    EXPECT_NE(why(complete(100, {state_of(1, 2.0)})).find("a kind for every body"), std::string::npos);
+    EXPECT_NE(why(partial(100, 101, {})).find("base frame 101 does not fit"), std::string::npos);
+    wire::SectorFrame offsets = with_kind(complete(100, {state_of(1, 2.0)}));
+    offsets.offsets().resize(3);
+    EXPECT_NE(why(offsets).find("offsets do not match"), std::string::npos);
 }
 
 }  // namespace
