@@ -113,10 +113,15 @@ int main(int argc, char** argv) {
         lpss::dds::reader_qos(lpss::dds::kStateDelivery), &inbox);
 
     std::vector<ChildProcess> children;
-    for (std::uint32_t w = 1; w <= workers; ++w) {
+    std::map<std::uint32_t, int> restarts;
+    auto worker_args = [&](std::uint32_t w) {
         std::vector<std::string> args = common;
         args.insert(args.end(), {"--id", std::to_string(w), "--threads", std::to_string(threads)});
-        auto child = ChildProcess::start(worker_program, args, log_dir + fmt::format("/worker-{}.log", w));
+        return args;
+    };
+    for (std::uint32_t w = 1; w <= workers; ++w) {
+        auto child =
+            ChildProcess::start(worker_program, worker_args(w), log_dir + fmt::format("/worker-{}.log", w));
         if (!child) {
             std::fprintf(stderr, "lpss-cluster: cannot start worker %u\n", w);
             return 2;
@@ -248,6 +253,18 @@ int main(int argc, char** argv) {
         if (!coordinator->running()) {
             exit_code = coordinator->exit_code().value_or(1);
             break;
+        }
+        // A worker the coordinator took as gone (stopped or cut off past its lease) stops with exit 5:
+        // started again, it joins the running world.
+        for (std::size_t n = 0; n < children.size() && !stopping; ++n) {
+            ChildProcess& c = children[n];
+            if (c.running() || c.exit_code() != std::optional<int>(5)) continue;
+            const auto w = static_cast<std::uint32_t>(n + 1);
+            const std::string log = log_dir + fmt::format("/worker-{}.restart{}.log", w, ++restarts[w]);
+            auto again = ChildProcess::start(worker_program, worker_args(w), log);
+            fmt::print("lpss-cluster: worker {} was taken as gone and stopped; started again ({})\n", w,
+                       again ? log : std::string("failed"));
+            if (again) c = std::move(*again);
         }
         if (stop.load() && !stopping) {
             // Ctrl-C: the coordinator tells the workers to stop after the current frame.

@@ -70,6 +70,7 @@ struct Worker::State {
     Halo halo;
     std::uint64_t frame = 0;
     std::uint32_t degraded = 0;
+    bool left_out = false;               ///< an assignment in force leaves it out: taken as gone
     std::uint64_t frame_started_ns = 0;  ///< the FrameGo's, passed on in the mark
     double time_lost = 0.0;
 
@@ -435,6 +436,15 @@ void Worker::State::apply_go(const wire::FrameGo& go) {
     const SectorAssignment current = halo.current();
     if (halo.next().epoch != current.epoch && halo.next().from_frame <= go.frame()) {
         const SectorAssignment switched = halo.next();
+        auto member = [this](const SectorAssignment& a) {
+            return std::find(a.workers.begin(), a.workers.end(), options.id) != a.workers.end();
+        };
+        // Left out after having sectors: the coordinator took this worker as gone (it was stopped, or cut
+        // off, longer than its lease) and its sectors are simulated elsewhere now. It must not go on.
+        if (member(current) && !member(switched)) {
+            left_out = true;
+            return;
+        }
         halo.follow(switched, switched, halo.largest_radius());
         world->set_ownership([this](const SectorKey& key) { return halo.owns(key); });
         // Sectors given away are their new owner's to publish, whole first; their ghosts stay here until
@@ -653,6 +663,16 @@ int Worker::run(const std::atomic<bool>& stop) {
         s.pump();
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
         if (next == nullptr) {
+            // A frame after the next started without this worker: the coordinator took it as gone (it was
+            // stopped, or cut off, longer than its lease) and will not start its next frame again.
+            if (const wire::FrameGo* latest = s.gate.latest();
+                s.world && latest != nullptr && latest->frame() >= s.frame + 2) {
+                spdlog::error(
+                    "worker {}: the coordinator took this worker as gone (frame {} started without it after "
+                    "its frame {}): stopping without publishing; start it again to rejoin",
+                    id, latest->frame(), s.frame);
+                return 5;
+            }
             // A cluster already running when this worker came (it sees no frame 1 but later ones): it joins.
             if (const wire::FrameGo* latest = s.gate.latest();
                 !s.world && latest != nullptr && latest->frame() > 1) {
@@ -728,6 +748,13 @@ int Worker::run(const std::atomic<bool>& stop) {
         }
         s.apply_samples(s.frame - 1);
         s.apply_go(go);
+        if (s.left_out) {
+            spdlog::error(
+                "worker {}: the coordinator took this worker as gone (the assignment in force from frame {} "
+                "leaves it out): stopping without publishing; start it again to rejoin",
+                id, s.frame);
+            return 5;
+        }
         const double wait_ms = ms_since(wait_start);
         const auto step_start = Clock::now();
         s.world->step();

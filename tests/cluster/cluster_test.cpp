@@ -698,6 +698,65 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
 }
 
+TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
+    // Worker 2 of 3 is frozen (SIGSTOP) past its lease, as a worker cut off from the others would be: the
+    // world goes on without it. Thawed, it finds frames started without it and stops (exit 5) without
+    // publishing anything more: its sectors are simulated elsewhere. lpss-cluster starts it again, and it
+    // joins the running world. Every frame the client sees holds every body once, within the cluster's
+    // bound of lpss-sim.
+    const int domain = 144;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "frozen");
+    constexpr std::uint64_t kFrames = 480;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "frozen");
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    std::map<std::uint64_t, WorldFrame> frames;
+    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
+        const auto end = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
+            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5)))
+                frames[f.frame] = std::move(f);
+        }
+    };
+    gather(150, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    const std::string worker = "'[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
+    ASSERT_EQ(std::system(("pkill -STOP -f " + worker).c_str()), 0);
+    const std::uint64_t frozen_at = frames.rbegin()->first;
+    gather(frozen_at + 90, std::chrono::seconds(60));  // 1.5 s: the world went on without it
+    ASSERT_EQ(std::system(("pkill -CONT -f " + worker).c_str()), 0);
+    gather(kFrames, std::chrono::seconds(60));
+    EXPECT_EQ(frames.rbegin()->first, kFrames);
+    cluster.process->stop(std::chrono::seconds(20));
+    const SectorGrid grid(kL);
+    double worst = 0.0;
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
+        for (const BodyView& b : frame.bodies) {
+            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+        }
+    }
+    std::printf(
+        "worker 2 frozen after frame %llu for 1.5 s, then thawed: %zu frames seen, largest "
+        "difference from lpss-sim %.3g\n",
+        static_cast<unsigned long long>(frozen_at), frames.size(), worst);
+    EXPECT_LE(worst, 1e-3);
+    EXPECT_GE(frames.size(), kFrames * 9 / 10);
+    const std::string text = read_file(cluster.log_dir + "/worker-2.log");
+    EXPECT_NE(text.find("the coordinator took this worker as gone"), std::string::npos) << text;
+    const std::string again = read_file(cluster.log_dir + "/worker-2.restart1.log");
+    EXPECT_NE(again.find("joins the cluster with sectors"), std::string::npos) << again;
+    EXPECT_NE(read_file(cluster.log_dir + "/coordinator.log").find("worker 2 asks to join"),
+              std::string::npos);
+}
+
 /// The largest body count each worker reported in a mark of a frame after `after`: which workers
 /// simulate something, read from the wire.
 class BodiesPerWorker {
