@@ -67,6 +67,10 @@ int main(int argc, char** argv) {
     app.add_option("--rebalance-every", rebalance_every,
                    "frames between load checks (0: never move sectors)");
     std::uint32_t await_clients = 0;
+    double command_rate = 1000.0;
+    app.add_option("--command-rate", command_rate,
+                   "commands a second one client may send, in bursts of as many (0: no limit)")
+        ->check(CLI::Range(0.0, 1e9));
     app.add_option("--await-clients", await_clients,
                    "frame 1 waits until this many clients have matched every topic they read");
     CLI11_PARSE(app, argc, argv);
@@ -129,10 +133,11 @@ int main(int argc, char** argv) {
         children.push_back(std::move(*child));
     }
     std::vector<std::string> args = common;
-    args.insert(args.end(),
-                {scene_path, "--workers", std::to_string(workers), "--frames", std::to_string(frames),
-                 "--block-size", std::to_string(block_size), "--rebalance-every",
-                 std::to_string(rebalance_every), "--await-clients", std::to_string(await_clients)});
+    args.insert(
+        args.end(),
+        {scene_path, "--workers", std::to_string(workers), "--frames", std::to_string(frames), "--block-size",
+         std::to_string(block_size), "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
+         std::to_string(await_clients), "--command-rate", fmt::format("{}", command_rate)});
     if (realtime) args.push_back("--realtime");
     auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
     if (!coordinator) {

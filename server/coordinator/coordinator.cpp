@@ -9,6 +9,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "command_rate.hpp"
 #include "commands.hpp"
 #include "heap.hpp"
 #include "lost_frame.hpp"
@@ -139,6 +140,7 @@ struct Coordinator::State {
     std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
     std::vector<std::uint64_t> command_order_in_flight;
     std::set<std::string> ready_clients;  ///< clients that matched every topic they read
+    CommandRate command_rate{0.0};
     std::uint64_t next_order = 1;
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
@@ -196,6 +198,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     if (options.block_size < 1) return Error{"block size must be at least 1"};
     auto state = std::make_unique<State>();
     state->options = options;
+    state->command_rate = CommandRate(options.command_rate);
     Expected<std::unique_ptr<dds::Participant>> participant =
         dds::Participant::create(options.domain, options.profile, "lpss-coordinator");
     if (!participant) return participant.error();
@@ -472,6 +475,11 @@ void Coordinator::State::refuse(const wire::Command& c, const std::string& reaso
 void Coordinator::State::accept_commands() {
     commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
+        if (c.kind() != wire::kCommandReady && !command_rate.allow(c.client(), Clock::now())) {
+            return refuse(c, "client '" + c.client() + "' sends more than " +
+                                 std::to_string(static_cast<long long>(command_rate.per_second())) +
+                                 " commands a second: refused (rate limit)");
+        }
         auto known = statics.find(c.body());
         auto finite = [](const wire::Vec3d& v) {
             return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());

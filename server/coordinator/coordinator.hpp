@@ -29,6 +29,9 @@ struct CoordinatorOptions {
     /// Frame 1 waits until this many clients (by name) have said they matched every topic they read: a
     /// synchronization point, as HLA federations have, so that recorders miss nothing.
     std::uint32_t await_clients = 0;
+    /// Commands a second one client may send (bursts of as many); beyond, each is refused with the reason.
+    /// 0: no limit.
+    double command_rate = 1000.0;
 };
 
 class Coordinator {

@@ -24,6 +24,9 @@ int main(int argc, char** argv) {
     app.add_option("--rebalance-every", o.rebalance_every, "frames between load checks (0: never)");
     app.add_option("--await-clients", o.await_clients,
                    "frame 1 waits until this many clients have matched every topic they read");
+    app.add_option("--command-rate", o.command_rate,
+                   "commands a second one client may send, in bursts of as many (0: no limit)")
+        ->check(CLI::Range(0.0, 1e9));
     app.add_option("--worker-wait-s", worker_wait_s, "how long to wait for the workers to appear");
     app.add_option("--worker-timeout-ms", worker_timeout_ms, "silence after which a worker is taken as gone");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");

@@ -141,6 +141,62 @@ void compare_with_sim(int workers, int domain) {
 
 TEST(Cluster, OneWorkerMatchesLpssSimBitForBit) { compare_with_sim(1, 120); }
 
+TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
+    // One client writes 3,000 commands as fast as it can to a coordinator that takes 200 a second from
+    // each client: past the burst, its commands are refused with the reason; frames keep coming at the
+    // scene's rate, and another client's command is applied within a few frames.
+    const int domain = 145;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "flood");
+    auto flooder = connect(domain, "flooder");
+    auto other = connect(domain, "other");
+    ASSERT_TRUE(flooder && other);
+    auto cluster = start_cluster(path, domain, 2, 600, {"--await-clients", "1", "--command-rate", "200"});
+    ASSERT_TRUE(cluster.process);
+    auto frames = collect(*other, 30, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    using Clock = std::chrono::steady_clock;
+    std::uint64_t first = 0, last = 0;
+    for (int n = 0; n < 3000; ++n) {
+        last = flooder->set_velocity(1, {1.0 + 1e-4 * n, 0, 0}, {0, 0, 0});
+        if (n == 0) first = last;
+    }
+    const auto sent = Clock::now();
+    const std::uint64_t asked = other->set_velocity(2, {0, 0, 0}, {0, 0, 0});
+    auto mine = other->wait_outcome(asked, std::chrono::seconds(10));
+    const double answered = std::chrono::duration<double>(Clock::now() - sent).count();
+    ASSERT_TRUE(mine);
+    EXPECT_TRUE(mine->applied) << mine->reason;
+    auto refused = flooder->wait_outcome(last, std::chrono::seconds(10));
+    ASSERT_TRUE(refused);
+    EXPECT_FALSE(refused->applied);
+    EXPECT_NE(refused->reason.find("client 'flooder' sends more than 200 commands a second"),
+              std::string::npos)
+        << refused->reason;
+    auto applied = flooder->wait_outcome(first, std::chrono::seconds(1));
+    if (applied) EXPECT_TRUE(applied->applied) << "the first of the burst " << applied->reason;
+    // Frames go on at the scene's rate while the flood is refused.
+    double longest = 0.0;
+    auto previous = Clock::now();
+    const std::uint64_t from = other->latest() ? other->latest()->frame : 0;
+    while (true) {
+        auto got = other->poll(std::chrono::milliseconds(5));
+        if (got.empty()) {
+            if (std::chrono::duration<double>(Clock::now() - previous).count() > 5.0) break;
+            continue;
+        }
+        longest = std::max(longest, std::chrono::duration<double>(Clock::now() - previous).count());
+        previous = Clock::now();
+        if (got.back().frame >= from + 120) break;
+    }
+    std::printf(
+        "3000 commands from one client: the other's command answered in %.3f s (frame %llu), the "
+        "longest wait for a frame after %.3f s\n",
+        answered, static_cast<unsigned long long>(mine->frame), longest);
+    EXPECT_LT(longest, 0.25);
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+}
+
 TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
     // A peer on the domain (no DDS Security) writes sector samples to every worker while the world runs: a
     // frame far in the future (it would freeze its sector: every later real sample stale), NaN states, a
