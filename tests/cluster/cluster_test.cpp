@@ -167,14 +167,29 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
     const double answered = std::chrono::duration<double>(Clock::now() - sent).count();
     ASSERT_TRUE(mine);
     EXPECT_TRUE(mine->applied) << mine->reason;
-    auto refused = flooder->wait_outcome(last, std::chrono::seconds(10));
-    ASSERT_TRUE(refused);
-    EXPECT_FALSE(refused->applied);
-    EXPECT_NE(refused->reason.find("client 'flooder' sends more than 200 commands a second"),
-              std::string::npos)
-        << refused->reason;
-    auto applied = flooder->wait_outcome(first, std::chrono::seconds(1));
-    if (applied) EXPECT_TRUE(applied->applied) << "the first of the burst " << applied->reason;
+    // The flood's answers: DDS may deliver a burst over seconds (shared-memory ports overflow and are
+    // repaired), so the bucket refills meanwhile; and a client keeps the last 256 answers it has not read.
+    // What must hold: refusals that name the limit, and no more applied than the limit lets through.
+    flooder->wait_outcome(last, std::chrono::seconds(5));
+    std::size_t applied = 0, limited = 0, other_reason = 0;
+    for (std::uint64_t r = first; r <= last; ++r) {
+        auto o = flooder->wait_outcome(r, std::chrono::milliseconds(0));
+        if (!o) continue;
+        if (o->applied) {
+            ++applied;
+        } else if (o->reason.find("client 'flooder' sends more than 200 commands a second: refused (rate "
+                                  "limit)") != std::string::npos) {
+            ++limited;
+        } else {
+            ++other_reason;
+        }
+    }
+    const double elapsed = std::chrono::duration<double>(Clock::now() - sent).count();
+    std::printf("flood answers read: %zu applied, %zu refused for the rate, %zu otherwise, over %.1f s\n",
+                applied, limited, other_reason, elapsed);
+    EXPECT_GE(limited, 1u);
+    EXPECT_EQ(other_reason, 0u);
+    EXPECT_LE(static_cast<double>(applied), 200.0 + 200.0 * elapsed + 1.0);
     // Frames go on at the scene's rate while the flood is refused.
     double longest = 0.0;
     auto previous = Clock::now();
