@@ -65,7 +65,7 @@ struct Client::State {
     /// Workers whose hello (their mark of frame 0) came: their marks writer knows this client's reader.
     std::set<std::uint32_t> hellos;
     /// The newest frame a worker has ended, as far as this client knows: samples much newer are garbage.
-    static constexpr std::uint64_t kNoMarkYet = ~std::uint64_t{0} - dds::kFramesAhead;
+    static constexpr std::uint64_t kNoMarkYet = ~std::uint64_t{0} - dds::kClientFramesAhead;
     std::uint64_t newest_mark = kNoMarkYet;
     dds::RefusedSamples refused_samples{"client"};
     std::uint64_t inventory_request = 0;  ///< 0: not asked yet
@@ -218,7 +218,7 @@ void Client::State::take() {
         // The coordinator's samples hold the world's first state, of sectors not written since (and the
         // state of a dead worker's sectors, for their next owner).
         if (!info.valid_data || chain.stale(f)) return;
-        if (std::string why = dds::implausible(f, newest_mark); !why.empty())
+        if (std::string why = dds::implausible(f, newest_mark, dds::kClientFramesAhead); !why.empty())
             return refused_samples.refuse(why);
         if (!chain.accept(f)) {
             wanted_whole.want(dds::from_wire(f.sector()));

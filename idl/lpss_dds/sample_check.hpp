@@ -13,14 +13,20 @@
 
 namespace lpss::dds {
 
-/// How far ahead of the newest frame a reader knows has started a sample may be: a faster worker's
-/// sample of the next frame can arrive before that frame's start does.
+/// How far ahead of the newest frame a reader knows has started a sample may be. For workers and the
+/// coordinator, which know each frame's start: a faster worker's sample of the next frame can arrive
+/// before that frame's start does.
 inline constexpr std::uint64_t kFramesAhead = 2;
+/// For clients, which learn frames from the workers' marks: marks travel on a topic of their own and were
+/// seen arriving 3 frames after the samples of their frame (a late joiner refused those samples and never
+/// showed a frame). Ten seconds at 60 frames a second: a peer's sample further ahead is still refused.
+inline constexpr std::uint64_t kClientFramesAhead = 600;
 
 /// Why `sample` cannot come from an lpss cluster whose newest started frame, as the reader knows it, is
-/// `newest_frame`; empty when it can. Checks the sector key's range, the frame, the lengths of the
-/// sequences against each other, and that every body's state is finite.
-std::string implausible(const wire::SectorFrame& sample, std::uint64_t newest_frame);
+/// `newest_frame`, at most `frames_ahead` ahead of it; empty when it can. Checks the sector key's range,
+/// the frame, the lengths of the sequences against each other, and that every body's state is finite.
+std::string implausible(const wire::SectorFrame& sample, std::uint64_t newest_frame,
+                        std::uint64_t frames_ahead = kFramesAhead);
 
 /// A reader's refusals: the first of each kind (its reason without numbers) is logged, then at most one a
 /// second of that kind with the count so far, so that a flood of garbage costs a few log lines a second.

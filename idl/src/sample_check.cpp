@@ -27,9 +27,9 @@ std::string where(const wire::SectorFrame& s) {
 
 }  // namespace
 
-std::string implausible(const wire::SectorFrame& s, std::uint64_t newest_frame) {
+std::string implausible(const wire::SectorFrame& s, std::uint64_t newest_frame, std::uint64_t frames_ahead) {
     if (!in_range(from_wire(s.sector()))) return where(s) + ": sector index beyond 2^62";
-    if (s.frame() > newest_frame && s.frame() - newest_frame > kFramesAhead) {
+    if (s.frame() > newest_frame && s.frame() - newest_frame > frames_ahead) {
         return where(s) + ": frame is ahead of the newest started (" + std::to_string(newest_frame) + ")";
     }
     if (s.base() > s.frame() || (s.complete() && s.base() != s.frame()))

@@ -34,29 +34,6 @@ namespace {
 
 using Clock = std::chrono::system_clock;
 
-/// Bodies in a lattice 1.5 apart around the origin, without gravity; one in `every` drifting at up to
-/// 2 units/s, crossing sectors and the border between the two workers all the time, the others at rest
-/// until something hits them.
-Scene drifting(int count, int every) {
-    Scene s;
-    s.settings.sector_size = 8;
-    s.settings.sleeping = false;
-    std::mt19937_64 random(99);
-    std::uniform_real_distribution<double> speed(-2.0, 2.0);
-    const int side = static_cast<int>(std::ceil(std::cbrt(count)));
-    for (int n = 0; n < count; ++n) {
-        // Centred on the origin, so that the lattice spans several sectors and blocks of sectors.
-        Eigen::Vector3d p(1.5 * (n % side - side / 2), 1.5 * (n / side % side - side / 2),
-                          1.5 * (n / (side * side) - side / 2));
-        BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
-                           : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
-        const Eigen::Vector3d v(speed(random), speed(random), speed(random));
-        if (n % every == 0) b.linear_velocity = v;
-        s.bodies.push_back(b);
-    }
-    return s;
-}
-
 double percentile(std::vector<double> v, double p) {
     if (v.empty()) return std::nan("");
     std::sort(v.begin(), v.end());

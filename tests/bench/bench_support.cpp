@@ -7,13 +7,17 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "scenes.hpp"
 
 namespace lpss::bench {
 
@@ -332,6 +336,26 @@ World make_world(const Scene& scene, const EngineOptions& options) {
     Expected<World> world = World::create(scene, options);
     if (!world) throw std::runtime_error("scene refused: " + world.error().message);
     return std::move(world).value();
+}
+
+Scene drifting(int count, int every) {
+    Scene s;
+    s.settings.sector_size = 8;
+    s.settings.sleeping = false;
+    std::mt19937_64 random(99);
+    std::uniform_real_distribution<double> speed(-2.0, 2.0);
+    const int side = static_cast<int>(std::ceil(std::cbrt(count)));
+    for (int n = 0; n < count; ++n) {
+        // Centred on the origin, so that the lattice spans several sectors and blocks of sectors.
+        Eigen::Vector3d p(1.5 * (n % side - side / 2), 1.5 * (n / side % side - side / 2),
+                          1.5 * (n / (side * side) - side / 2));
+        BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
+                           : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
+        const Eigen::Vector3d v(speed(random), speed(random), speed(random));
+        if (n % every == 0) b.linear_velocity = v;
+        s.bodies.push_back(b);
+    }
+    return s;
 }
 
 }  // namespace lpss::bench

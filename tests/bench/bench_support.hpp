@@ -95,4 +95,8 @@ std::size_t heap_bytes();
 /// A world for a scene, or an exit with the reason.
 World make_world(const Scene& scene, const EngineOptions& options);
 
+/// `count` bodies in a lattice 1.5 apart around the origin, without gravity, in sectors of 8; one in
+/// `every` drifting at up to 2 units/s, the others at rest until something hits them.
+Scene drifting(int count, int every);
+
 }  // namespace lpss::bench

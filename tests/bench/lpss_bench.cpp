@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
         {"cluster-scale",
          "a world at rest from 10^4 to 10^6 bodies: lpss-cluster (1, 2, 4 workers) and lpss-sim",
          run_cluster_scale},
+        {"late-join", "clients joining a running cluster: time to match and to the first frame",
+         run_late_join},
     };
     std::vector<std::pair<CLI::App*, const Sub*>> commands;
     for (const Sub& sub : subs)

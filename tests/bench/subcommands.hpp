@@ -16,5 +16,6 @@ void run_stability(const Context& context);
 void run_accuracy(const Context& context);
 void run_cluster(const Context& context);
 void run_cluster_scale(const Context& context);
+void run_late_join(const Context& context);
 
 }  // namespace lpss::bench
