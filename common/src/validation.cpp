@@ -16,12 +16,23 @@ std::string number(double v) {
     return out.str();
 }
 
-std::string speed_limit_breach(const char* kind, double speed, double limit, const WorldSettings& s) {
-    const bool linear = kind[0] == 'l';
-    return std::string(kind) + " speed " + number(speed) + (linear ? " units/s" : " rad/s") +
-           " is above the " + number(limit) + (linear ? " units/s" : " rad/s") + " an engine step of " +
-           number(s.step_seconds()) + " s can simulate (" + (linear ? "10^5 units" : "100 radians") +
-           " a step; more substeps per frame allow more)";
+/// A speed and its ceiling (WorldSettings::max_linear_speed, max_angular_speed), for the messages.
+struct SpeedLimit {
+    const char* kind;
+    const char* unit;
+    const char* per_step;
+    double (WorldSettings::*limit)() const;
+};
+constexpr SpeedLimit kLinearSpeed{"linear", "units/s", "10^5 units", &WorldSettings::max_linear_speed};
+constexpr SpeedLimit kAngularSpeed{"angular", "rad/s", "100 radians", &WorldSettings::max_angular_speed};
+
+/// Why `velocity` is too fast under `s`, or empty if it is not (it must be finite).
+std::string too_fast(const SpeedLimit& l, const Eigen::Vector3d& velocity, const WorldSettings& s) {
+    const double limit = (s.*l.limit)();
+    if (velocity.norm() <= limit) return {};
+    return std::string(l.kind) + " speed " + number(velocity.norm()) + " " + l.unit + " is above the " +
+           number(limit) + " " + l.unit + " an engine step of " + number(s.step_seconds()) +
+           " s can simulate (" + l.per_step + " a step; more substeps per frame allow more)";
 }
 
 class BodyChecker {
@@ -43,20 +54,8 @@ public:
         } else if (q.norm() < 1e-9) {
             fail("orientation", "is a zero quaternion");
         }
-        if (!body_.linear_velocity.allFinite()) {
-            fail("linear_velocity", "is not finite");
-        } else if (body_.linear_velocity.norm() > settings_.max_linear_speed()) {
-            fail("linear_velocity",
-                 "is too fast: " + speed_limit_breach("linear", body_.linear_velocity.norm(),
-                                                      settings_.max_linear_speed(), settings_));
-        }
-        if (!body_.angular_velocity.allFinite()) {
-            fail("angular_velocity", "is not finite");
-        } else if (body_.angular_velocity.norm() > settings_.max_angular_speed()) {
-            fail("angular_velocity",
-                 "is too fast: " + speed_limit_breach("angular", body_.angular_velocity.norm(),
-                                                      settings_.max_angular_speed(), settings_));
-        }
+        check_velocity("linear_velocity", body_.linear_velocity, kLinearSpeed);
+        check_velocity("angular_velocity", body_.angular_velocity, kAngularSpeed);
         finite_at_least("material.friction", body_.material.friction, 0.0);
         finite_at_least("material.restitution", body_.material.restitution, 0.0);
         if (body_.asleep) {
@@ -77,6 +76,14 @@ private:
     void fail(const std::string& field, const std::string& what) {
         if (!problems_.empty()) problems_ += "\n";
         problems_ += describe_body(body_) + ": " + field + " " + what;
+    }
+
+    void check_velocity(const std::string& field, const Eigen::Vector3d& v, const SpeedLimit& limit) {
+        if (!v.allFinite()) {
+            fail(field, "is not finite");
+        } else if (std::string why = too_fast(limit, v, settings_); !why.empty()) {
+            fail(field, "is too fast: " + why);
+        }
     }
 
     void finite_at_least(const std::string& field, double v, double least) {
@@ -258,11 +265,8 @@ double WorldSettings::max_angular_speed() const { return 100.0 / step_seconds();
 
 Status check_velocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const WorldSettings& s) {
     if (!linear.allFinite() || !angular.allFinite()) return Error{"velocities must be finite"};
-    if (linear.norm() > s.max_linear_speed()) {
-        return Error{speed_limit_breach("linear", linear.norm(), s.max_linear_speed(), s)};
-    }
-    if (angular.norm() > s.max_angular_speed()) {
-        return Error{speed_limit_breach("angular", angular.norm(), s.max_angular_speed(), s)};
+    for (const auto& [limit, v] : {std::pair{&kLinearSpeed, &linear}, std::pair{&kAngularSpeed, &angular}}) {
+        if (std::string why = too_fast(*limit, *v, s); !why.empty()) return Error{why};
     }
     return {};
 }

@@ -105,6 +105,11 @@ struct Worker::State {
     bool coordinator_present() const { return go_in->matched() > 0; }
     void pump();
     bool start_world(const wire::FrameGo& go, const std::atomic<bool>& stop);
+    /// The engine world under the coordinator's settings; false (logged) if they are refused.
+    bool create_world(const wire::Assignment& announced);
+    /// The planes read before the world existed, each with its rank (its place in the scene); they count as
+    /// held from now on.
+    std::vector<std::pair<std::uint64_t, BodyDesc>> take_early_planes();
     // Joining a running cluster (a new worker, or one restarted under the id of one that is gone): it asks
     // with a frame-0 mark naming the assignment it saw in force; the coordinator gives it sectors from a
     // later frame, and their owners send them whole at the frame before, as in any rebalance.
@@ -260,17 +265,7 @@ void Worker::State::apply_samples(std::uint64_t up_to,
 bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>& stop) {
     const SectorAssignment current = dds::from_wire(go.next());
     halo.follow(current, current, go.next().largest_radius());
-    const WorldSettings settings = dds::from_wire(go.next().settings());
-    EngineOptions engine;
-    engine.threads = options.threads;
-    engine.owns = [this](const SectorKey& key) { return halo.owns(key); };
-    Expected<World> created = World::create(settings, engine);
-    if (!created) {
-        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id,
-                      created.error().message);
-        return false;
-    }
-    world.emplace(std::move(created).value());
+    if (!create_world(go.next())) return false;
     // The world's first state: the coordinator's samples of the sectors this worker holds, and the planes.
     // Waits as long as the coordinator is there: a large world takes a while to send.
     const auto started = Clock::now();
@@ -294,11 +289,7 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         }
     }
     if (stop.load()) return false;
-    std::vector<std::pair<std::uint64_t, BodyDesc>> ranked_planes;
-    for (const auto& [id, plane] : early_planes) {
-        ranked_planes.push_back(plane);
-        planes.insert(id);
-    }
+    const std::vector<std::pair<std::uint64_t, BodyDesc>> ranked_planes = take_early_planes();
     // Readers hold this worker's sectors as the coordinator sent them, from the coordinator's history:
     // publishing them again would send the whole world at frame 1 (200 MB for a million bodies) and stall
     // the first frames. Their first samples are partial, on the coordinator's.
@@ -310,7 +301,6 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         }
     }
     apply_samples(0, ranked_planes);
-    early_planes.clear();
     for (const SectorKey& key : world->sectors()) {
         if (!halo.owns(key)) continue;
         auto seeded = seed_recipients.find(key);
@@ -328,6 +318,30 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
                  world->body_count(), world->sectors().size(),
                  std::chrono::duration<double>(Clock::now() - started).count());
     return true;
+}
+
+bool Worker::State::create_world(const wire::Assignment& announced) {
+    EngineOptions engine;
+    engine.threads = options.threads;
+    engine.owns = [this](const SectorKey& key) { return halo.owns(key); };
+    Expected<World> created = World::create(dds::from_wire(announced.settings()), engine);
+    if (!created) {
+        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id,
+                      created.error().message);
+        return false;
+    }
+    world.emplace(std::move(created).value());
+    return true;
+}
+
+std::vector<std::pair<std::uint64_t, BodyDesc>> Worker::State::take_early_planes() {
+    std::vector<std::pair<std::uint64_t, BodyDesc>> ranked;
+    for (auto& [id, plane] : early_planes) {
+        ranked.push_back(std::move(plane));
+        planes.insert(id);
+    }
+    early_planes.clear();
+    return ranked;
 }
 
 Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
@@ -386,25 +400,9 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
         return Joining::failed;
     }
     if (early_planes.size() < latest.planes()) return Joining::waiting;
-    const WorldSettings settings = dds::from_wire(latest.next().settings());
-    EngineOptions engine;
-    engine.threads = options.threads;
-    engine.owns = [this](const SectorKey& key) { return halo.owns(key); };
-    Expected<World> created = World::create(settings, engine);
-    if (!created) {
-        spdlog::error("worker {}: the coordinator's settings are refused: {}", options.id,
-                      created.error().message);
-        return Joining::failed;
-    }
-    world.emplace(std::move(created).value());
+    if (!create_world(latest.next())) return Joining::failed;
     halo.follow(joined_from, announced, latest.next().largest_radius());
-    std::vector<std::pair<std::uint64_t, BodyDesc>> ranked_planes;
-    for (const auto& [id, plane] : early_planes) {
-        ranked_planes.push_back(plane);
-        planes.insert(id);
-    }
-    halo.apply(*world, {}, ranked_planes);
-    early_planes.clear();
+    halo.apply(*world, {}, take_early_planes());
     // It is as if it had ended the frame before its sectors become its own: that frame's samples (its
     // sectors whole, and its halo) are the ones it starts from.
     frame = announced.from_frame - 1;

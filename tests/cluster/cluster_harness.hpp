@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -93,16 +94,32 @@ inline std::string read_file(const std::string& path) {
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+/// Polls until frame `last` is in `frames` (or the limit passes), adding every frame seen by number;
+/// `arrived` is told each frame's number as it comes.
+inline void collect_into(Client& client, std::map<std::uint64_t, WorldFrame>& frames, std::uint64_t last,
+                         std::chrono::seconds limit, const std::function<void(std::uint64_t)>& arrived = {},
+                         std::chrono::milliseconds poll = std::chrono::milliseconds(20)) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
+        for (WorldFrame& f : client.poll(poll)) {
+            if (arrived) arrived(f.frame);
+            frames[f.frame] = std::move(f);
+        }
+    }
+}
+
 /// Polls until frame `last` has been seen (or the limit passes); returns every frame seen, by number.
 inline std::map<std::uint64_t, WorldFrame> collect(Client& client, std::uint64_t last,
                                                    std::chrono::seconds limit = std::chrono::seconds(120)) {
     std::map<std::uint64_t, WorldFrame> frames;
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
-        for (WorldFrame& f : client.poll(std::chrono::milliseconds(20)))
-            frames[f.frame] = std::move(f);
-    }
+    collect_into(client, frames, last, limit);
     return frames;
+}
+
+/// A pkill -f pattern for one worker of a test's cluster. The bracket keeps it from matching the shell
+/// that runs pkill, whose own command line holds the pattern.
+inline std::string worker_process(int domain, int id) {
+    return "'[l]pss-worker --domain " + std::to_string(domain) + " --id " + std::to_string(id) + " '";
 }
 
 }  // namespace lpss::testing

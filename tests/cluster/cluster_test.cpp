@@ -27,9 +27,11 @@ namespace lpss {
 namespace {
 
 using testing::collect;
+using testing::collect_into;
 using testing::connect;
 using testing::read_file;
 using testing::start_cluster;
+using testing::worker_process;
 using testing::write_scene;
 
 constexpr double kL = 128.0;
@@ -83,6 +85,35 @@ std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& sce
         out[std::stoull(f[0])][std::stoull(f[1])] = r;
     }
     return out;
+}
+
+using SimFrames = std::map<std::uint64_t, std::map<BodyId, SimRow>>;
+
+/// Checks every frame a client saw against lpss-sim's run of the same scene: empty if each frame holds
+/// exactly lpss-sim's bodies, else what the first that does not holds; `worst` is set to the largest
+/// distance of a body from where lpss-sim has it.
+std::string against_sim(const std::map<std::uint64_t, WorldFrame>& frames, const SimFrames& sim,
+                        double& worst) {
+    const SectorGrid grid(kL);
+    worst = 0.0;
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        bool same = frame.bodies.size() == expected.size();
+        for (const BodyView& b : frame.bodies)
+            same = same && expected.count(b.id);
+        if (!same) {
+            std::string held;
+            for (const BodyView& b : frame.bodies)
+                held += " " + std::to_string(b.id) + "@" + std::to_string(b.position.sector.i) + "," +
+                        std::to_string(b.position.sector.j) + "," + std::to_string(b.position.sector.k);
+            return "frame " + std::to_string(f) + " holds " + std::to_string(frame.bodies.size()) +
+                   " bodies, lpss-sim " + std::to_string(expected.size()) + ":" + held;
+        }
+        for (const BodyView& b : frame.bodies)
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+    }
+    return {};
 }
 
 void compare_with_sim(int workers, int domain) {
@@ -270,16 +301,7 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
     EXPECT_EQ(frames.rbegin()->first, static_cast<std::uint64_t>(kFrames));
     EXPECT_GE(frames.size(), kFrames * 9u / 10u);
     double worst = 0.0;
-    const SectorGrid grid(kL);
-    for (const auto& [f, frame] : frames) {
-        const auto& expected = sim.at(f);
-        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
-        for (const BodyView& b : frame.bodies) {
-            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << ": body " << b.id << " is not in the world";
-            worst = std::max(
-                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
-        }
-    }
+    ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf("%llu garbage samples written over %zu frames; largest difference from lpss-sim %.3g\n",
                 static_cast<unsigned long long>(written), frames.size(), worst);
     EXPECT_LE(worst, 1e-3);
@@ -686,21 +708,15 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     std::map<std::uint64_t, WorldFrame> frames;
     std::map<std::uint64_t, Clock::time_point> arrived;
     auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        const auto end = Clock::now() + limit;
-        while (Clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
-            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5))) {
-                arrived[f.frame] = Clock::now();
-                frames[f.frame] = std::move(f);
-            }
-        }
+        collect_into(
+            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
+            std::chrono::milliseconds(5));
     };
     gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    // Kill worker 2 outright, as a crash would. The bracket keeps the pattern from matching the shell that
-    // runs pkill, whose own command line holds the pattern.
-    const std::string kill = "pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
+    // Kill worker 2 outright, as a crash would.
     const auto killed = Clock::now();
-    ASSERT_EQ(std::system(kill.c_str()), 0);
+    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     gather(kFrames, std::chrono::seconds(60));
     ASSERT_GT(frames.rbegin()->first, killed_at + 120) << "frames go on after the death";
@@ -786,34 +802,20 @@ TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
     std::map<std::uint64_t, WorldFrame> frames;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        const auto end = std::chrono::steady_clock::now() + limit;
-        while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
-            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5)))
-                frames[f.frame] = std::move(f);
-        }
-    };
-    gather(150, std::chrono::seconds(60));
+    const std::chrono::milliseconds poll(5);
+    collect_into(*client, frames, 150, std::chrono::seconds(60), {}, poll);
     ASSERT_FALSE(frames.empty());
-    const std::string worker = "'[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
+    const std::string worker = worker_process(domain, 2);
     ASSERT_EQ(std::system(("pkill -STOP -f " + worker).c_str()), 0);
     const std::uint64_t frozen_at = frames.rbegin()->first;
-    gather(frozen_at + 90, std::chrono::seconds(60));  // 1.5 s: the world went on without it
+    // 1.5 s: the world went on without it.
+    collect_into(*client, frames, frozen_at + 90, std::chrono::seconds(60), {}, poll);
     ASSERT_EQ(std::system(("pkill -CONT -f " + worker).c_str()), 0);
-    gather(kFrames, std::chrono::seconds(60));
+    collect_into(*client, frames, kFrames, std::chrono::seconds(60), {}, poll);
     EXPECT_EQ(frames.rbegin()->first, kFrames);
     cluster.process->stop(std::chrono::seconds(20));
-    const SectorGrid grid(kL);
     double worst = 0.0;
-    for (const auto& [f, frame] : frames) {
-        const auto& expected = sim.at(f);
-        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
-        for (const BodyView& b : frame.bodies) {
-            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
-            worst = std::max(
-                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
-        }
-    }
+    ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf(
         "worker 2 frozen after frame %llu for 1.5 s, then thawed: %zu frames seen, largest "
         "difference from lpss-sim %.3g\n",
@@ -885,17 +887,14 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     std::map<std::uint64_t, WorldFrame> frames;
     std::uint64_t killed_at = kFrames;
     auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        const auto end = std::chrono::steady_clock::now() + limit;
-        while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < last)) {
-            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5)))
-                frames[f.frame] = std::move(f);
-            owners.poll(killed_at + 10);  // worker 2's marks after the kill: the restarted one's
-        }
+        // Worker 2's marks after the kill: the restarted one's.
+        collect_into(
+            *client, frames, last, limit, [&](std::uint64_t) { owners.poll(killed_at + 10); },
+            std::chrono::milliseconds(5));
     };
     gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    const std::string kill = "pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " --id 2 '";
-    ASSERT_EQ(std::system(kill.c_str()), 0);
+    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     killed_at = frames.rbegin()->first;
     gather(killed_at + 60, std::chrono::seconds(60));
     auto start_worker = [&](int id) {
@@ -911,21 +910,8 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     gather(kFrames, std::chrono::seconds(90));
     ASSERT_EQ(frames.rbegin()->first, kFrames);
 
-    const SectorGrid grid(kL);
     double worst = 0.0;
-    for (const auto& [f, frame] : frames) {
-        const auto& expected = sim.at(f);
-        std::string ids;
-        for (const BodyView& b : frame.bodies)
-            ids += " " + std::to_string(b.id) + "@" + std::to_string(b.position.sector.i) + "," +
-                   std::to_string(b.position.sector.j) + "," + std::to_string(b.position.sector.k);
-        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f << ", bodies" << ids;
-        for (const BodyView& b : frame.bodies) {
-            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
-            worst = std::max(
-                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
-        }
-    }
+    ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf(
         "worker 2 killed after frame %llu, restarted, and worker 4 added: %zu frames seen, largest "
         "difference from lpss-sim %.3g; most bodies simulated after they joined: worker 2 %u, worker 4 %u\n",
