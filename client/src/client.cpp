@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <sstream>
 #include <unordered_map>
 
 #include "lpssPubSubTypes.h"
@@ -39,8 +40,10 @@ struct Client::State {
     std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
 
     std::optional<SectorGrid> grid;
-    /// Assignments by the frame they take effect from: which workers end each frame.
+    std::optional<WorldSettings> settings;
+    /// Assignments by the frame they take effect from: which workers end each frame, and own which sectors.
     std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
+    std::map<std::uint64_t, SectorAssignment> owners_from;
     std::map<BodyId, BodyDesc> planes;
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
@@ -57,6 +60,8 @@ struct Client::State {
         std::optional<std::vector<std::pair<SectorKey, std::uint64_t>>> inventory;
         std::uint64_t started_ns = 0;
         double time_lost = 0.0;
+        std::vector<HandoffView> leaving;  ///< into sectors this client follows
+        WorkerView report;
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
     /// The coordinator's mark of the world's first state (frame 0): a client there from the start follows
@@ -106,7 +111,29 @@ struct Client::State {
     bool shown_whole = false;       ///< a frame with every body was returned (FrameContent::changes)
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
+    /// Fills in what the marks of frames [from, shown] tell beyond the bodies: each body's worker, the
+    /// handoffs, the workers' reports.
+    void describe_cluster(WorldFrame& frame, std::uint64_t from, std::uint64_t shown) const;
 };
+
+void Client::State::describe_cluster(WorldFrame& out, std::uint64_t from, std::uint64_t shown) const {
+    if (auto owners = owners_from.upper_bound(shown); owners != owners_from.begin()) {
+        const SectorAssignment& assignment = std::prev(owners)->second;
+        for (BodyView& b : out.bodies) {
+            if (planes.count(b.id) == 0) b.worker = assignment.owner_of(b.position.sector);
+        }
+    }
+    for (std::uint64_t g = from; g <= shown; ++g) {
+        const std::vector<std::uint32_t>* workers = workers_of(g);
+        if (workers == nullptr) continue;
+        for (std::uint32_t w : *workers) {
+            auto it = marks.find({w, g});
+            if (it == marks.end()) continue;
+            out.handoffs.insert(out.handoffs.end(), it->second.leaving.begin(), it->second.leaving.end());
+            if (g == shown) out.workers.push_back(it->second.report);
+        }
+    }
+}
 
 Client::Client(std::unique_ptr<State> state) : state_(std::move(state)) {}
 
@@ -166,7 +193,9 @@ void Client::State::take() {
     assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
         grid = SectorGrid(a.settings().sector_size());
+        settings = dds::from_wire(a.settings());
         workers_from[a.from_frame()] = a.workers();
+        owners_from[a.from_frame()] = dds::from_wire(a);
     });
     planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) {
@@ -198,6 +227,13 @@ void Client::State::take() {
             if (follows(key)) mark.written.push_back(key);
         }
         mark.planes = m.planes();
+        for (const wire::Handoff& h : m.leaving()) {
+            const SectorKey key = dds::from_wire(h.sector());
+            if (follows(key))
+                mark.leaving.push_back({h.body(), h.from_worker(), h.to_worker(), key, m.frame()});
+        }
+        mark.report = WorkerView{m.worker(), m.sector_count(), m.bodies(), m.awake(),
+                                 m.ghosts(), m.clones(),       m.step_ms()};
         mark.started_ns = m.started_ns();
         mark.time_lost = m.time_lost();
         for (const wire::SectorInventory& inventory : m.inventories()) {
@@ -589,6 +625,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         s.applied = show;
         s.unconfirmed.clear();  // complete() found each of them held
         out.push_back(s.options.content == FrameContent::changes ? s.changes_view(show) : s.frame_view(show));
+        s.describe_cluster(out.back(), f, show);
         // Every worker's mark of a frame carries the coordinator's start of it.
         for (std::uint32_t w : *s.workers_of(show)) {
             auto it = s.marks.find({w, show});
@@ -630,11 +667,35 @@ void Client::on_frame(std::function<void(const WorldFrame&)> callback) {
 }
 const std::optional<WorldFrame>& Client::latest() const { return state_->latest; }
 std::optional<SectorGrid> Client::grid() const { return state_->grid; }
+std::optional<WorldSettings> Client::settings() const { return state_->settings; }
+const std::optional<Region>& Client::region() const { return state_->options.region; }
+
+Expected<Region> parse_region(const std::string& text) {
+    std::istringstream in(text);
+    std::int64_t v[6];
+    char comma = 0;
+    for (int n = 0; n < 6; ++n) {
+        if (!(in >> v[n]) || (n < 5 && (!(in >> comma) || comma != ','))) {
+            return Error{"--region wants six sector indices: i_lo,i_hi,j_lo,j_hi,k_lo,k_hi; got '" + text +
+                         "'"};
+        }
+    }
+    if (v[0] > v[1] || v[2] > v[3] || v[4] > v[5])
+        return Error{"--region: each low index must be <= its high"};
+    return Region{{v[0], v[2], v[4]}, {v[1], v[3], v[5]}};
+}
 
 std::optional<BodyDesc> Client::description(BodyId id) const {
     if (auto plane = state_->planes.find(id); plane != state_->planes.end()) return plane->second;
     if (const std::optional<wire::BodyKind> kind = state_->mirror.kind(id)) return dds::from_wire(*kind);
     return std::nullopt;
+}
+
+std::optional<BodyDesc> Client::description(const BodyView& body) const {
+    if (auto plane = state_->planes.find(body.id); plane != state_->planes.end()) return plane->second;
+    if (const std::optional<wire::BodyKind> kind = state_->mirror.kind(body.position.sector, body.id))
+        return dds::from_wire(*kind);
+    return description(body.id);
 }
 
 std::uint64_t Client::State::send(wire::Command command) {

@@ -17,21 +17,6 @@
 
 namespace {
 
-lpss::Expected<lpss::Region> parse_region(const std::string& text) {
-    std::istringstream in(text);
-    std::int64_t v[6];
-    char comma = 0;
-    for (int n = 0; n < 6; ++n) {
-        if (!(in >> v[n]) || (n < 5 && (!(in >> comma) || comma != ','))) {
-            return lpss::Error{"--region wants six sector indices: i_lo,i_hi,j_lo,j_hi,k_lo,k_hi; got '" +
-                               text + "'"};
-        }
-    }
-    if (v[0] > v[1] || v[2] > v[3] || v[4] > v[5])
-        return lpss::Error{"--region: each low index must be <= its high"};
-    return lpss::Region{{v[0], v[2], v[4]}, {v[1], v[3], v[5]}};
-}
-
 /// The bodies followed and how many are awake, kept from frames of changes.
 struct Counts {
     std::unordered_map<lpss::BodyId, bool> awake;
@@ -76,7 +61,7 @@ int main(int argc, char** argv) {
     // Printing needs only what changed (the counts are kept here); CSV writes every body of every frame.
     options.content = csv_path.empty() ? lpss::FrameContent::changes : lpss::FrameContent::every_body;
     if (!region.empty()) {
-        auto r = parse_region(region);
+        auto r = lpss::parse_region(region);
         if (!r) {
             std::fprintf(stderr, "lpss-watch: %s\n", r.error().message.c_str());
             return 2;

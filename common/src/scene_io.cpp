@@ -129,6 +129,12 @@ Expected<Scene> parse_scene(std::string_view text, std::string_view source, bool
     if (message.has_solver_iterations()) s.solver_iterations = message.solver_iterations();
     s.friction_combine = static_cast<CombineRule>(message.friction_combine());
     s.restitution_combine = static_cast<CombineRule>(message.restitution_combine());
+    if (message.geo().has_ecef()) s.geo.frame = GeoReference::Frame::ecef;
+    if (message.geo().has_local_tangent()) {
+        const pb::LocalTangent& at = message.geo().local_tangent();
+        s.geo = GeoReference{GeoReference::Frame::local_tangent, at.latitude_deg(), at.longitude_deg(),
+                             at.height_m()};
+    }
     if (message.has_precision_radius() && !(message.precision_radius() > 0.0)) {
         return Error{std::string(source) + ": scene: precision_radius must be > 0 when given"};
     }
@@ -166,6 +172,13 @@ std::string format_scene(const Scene& scene) {
     message.set_solver_iterations(s.solver_iterations);
     message.set_friction_combine(static_cast<pb::CombineRule>(s.friction_combine));
     message.set_restitution_combine(static_cast<pb::CombineRule>(s.restitution_combine));
+    if (s.geo.frame == GeoReference::Frame::ecef) message.mutable_geo()->mutable_ecef();
+    if (s.geo.frame == GeoReference::Frame::local_tangent) {
+        pb::LocalTangent* at = message.mutable_geo()->mutable_local_tangent();
+        at->set_latitude_deg(s.geo.latitude_deg);
+        at->set_longitude_deg(s.geo.longitude_deg);
+        at->set_height_m(s.geo.height_m);
+    }
     for (const BodyDesc& body : scene.bodies) {
         pb::Body* b = message.add_bodies();
         b->set_id(body.id);

@@ -245,6 +245,18 @@ Status validate(const WorldSettings& s) {
                          std::to_string(static_cast<int>(rule))};
         }
     }
+    if (s.geo.frame == GeoReference::Frame::local_tangent) {
+        const GeoReference& g = s.geo;
+        if (!(std::abs(g.latitude_deg) <= 90.0) || !(std::abs(g.longitude_deg) <= 180.0) ||
+            !std::isfinite(g.height_m)) {
+            return Error{
+                "scene: geo.local_tangent must have latitude_deg in [-90, 90], longitude_deg in "
+                "[-180, 180] and a finite height_m, got (" +
+                number(g.latitude_deg) + ", " + number(g.longitude_deg) + ", " + number(g.height_m) + ")"};
+        }
+    }
+    if (static_cast<int>(s.geo.frame) > static_cast<int>(GeoReference::Frame::local_tangent))
+        return Error{"scene: geo: unknown frame " + std::to_string(static_cast<int>(s.geo.frame))};
     if (!std::isfinite(s.hysteresis) || s.hysteresis < 0.0 || s.hysteresis > 0.25) {
         return Error{"scene: hysteresis must be a fraction of sector_size in [0, 0.25], got " +
                      number(s.hysteresis)};

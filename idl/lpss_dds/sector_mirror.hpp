@@ -41,6 +41,8 @@ public:
     wire::BodyKind kind(const Body& body) const;
     /// What a body is, found by id among every sector (for occasional use), or nothing.
     std::optional<wire::BodyKind> kind(BodyId id) const;
+    /// What a body is, found in the sector that holds it, or nothing.
+    std::optional<wire::BodyKind> kind(const SectorKey& sector, BodyId id) const;
     std::size_t distinct_kinds() const { return kinds_.size(); }
 
 private:

@@ -185,6 +185,10 @@ wire::WorldSettings to_wire(const WorldSettings& s) {
     out.solver_iterations(s.solver_iterations);
     out.friction_combine(static_cast<std::uint8_t>(s.friction_combine));
     out.restitution_combine(static_cast<std::uint8_t>(s.restitution_combine));
+    out.geo_frame(static_cast<std::uint8_t>(s.geo.frame));
+    out.geo_latitude_deg(s.geo.latitude_deg);
+    out.geo_longitude_deg(s.geo.longitude_deg);
+    out.geo_height_m(s.geo.height_m);
     return out;
 }
 
@@ -200,6 +204,8 @@ WorldSettings from_wire(const wire::WorldSettings& s) {
     out.solver_iterations = s.solver_iterations();
     out.friction_combine = static_cast<CombineRule>(s.friction_combine());
     out.restitution_combine = static_cast<CombineRule>(s.restitution_combine());
+    out.geo = GeoReference{static_cast<GeoReference::Frame>(s.geo_frame()), s.geo_latitude_deg(),
+                           s.geo_longitude_deg(), s.geo_height_m()};
     return out;
 }
 

@@ -139,4 +139,12 @@ std::optional<wire::BodyKind> SectorMirror::kind(BodyId id) const {
     return std::nullopt;
 }
 
+std::optional<wire::BodyKind> SectorMirror::kind(const SectorKey& sector, BodyId id) const {
+    auto bodies = sectors_.find(sector);
+    if (bodies == sectors_.end()) return std::nullopt;
+    auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
+    if (at == bodies->second.end() || at->state.id() != id) return std::nullopt;
+    return kind(*at);
+}
+
 }  // namespace lpss::dds

@@ -16,6 +16,7 @@
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/expected.hpp"
 #include "lpss/common/sector_grid.hpp"
+#include "lpss/common/world_settings.hpp"
 
 namespace lpss {
 
@@ -27,6 +28,10 @@ struct Region {
         return k.i >= lo.i && k.i <= hi.i && k.j >= lo.j && k.j <= hi.j && k.k >= lo.k && k.k <= hi.k;
     }
 };
+
+/// Parses "i_lo,i_hi,j_lo,j_hi,k_lo,k_hi" (the --region option of the client programs); the error says what
+/// is wrong.
+Expected<Region> parse_region(const std::string& text);
 
 /// What each frame a client returns holds.
 enum class FrameContent {
@@ -51,6 +56,27 @@ struct BodyView {
     Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
     Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
     bool awake = false;
+    std::uint32_t worker = 0;  ///< the worker that owns its sector in this frame (0 for planes)
+};
+
+/// A body that crossed into a sector of another worker, as the worker it left reported it.
+struct HandoffView {
+    BodyId body = 0;
+    std::uint32_t from_worker = 0;
+    std::uint32_t to_worker = 0;
+    SectorKey sector;         ///< the sector it entered
+    std::uint64_t frame = 0;  ///< the frame it crossed at
+};
+
+/// What a worker reported at the end of a frame (its whole share, not only the region followed).
+struct WorkerView {
+    std::uint32_t id = 0;
+    std::uint32_t sectors = 0;  ///< sectors it owns that hold bodies
+    std::uint32_t bodies = 0;
+    std::uint32_t awake = 0;
+    std::uint32_t ghosts = 0;  ///< other workers' bodies it holds next to its sectors
+    std::uint32_t clones = 0;  ///< copies of bodies near borders in the neighbouring sectors' worlds
+    float step_ms = 0.0f;      ///< its engine time for the frame
 };
 
 /// A frame: every body of the region, ordered by id; or, with FrameContent::changes, the bodies that
@@ -67,6 +93,11 @@ struct WorldFrame {
     /// Seconds of real time a --realtime cluster has let go so far: after a pause (a worker gone, a slow
     /// frame) it goes on at the scene's rate from where it is instead of catching up in a burst.
     double time_lost_s = 0.0;
+    /// Handoffs reported in the frames since the frame returned before (this one included), of bodies
+    /// entering sectors this client follows.
+    std::vector<HandoffView> handoffs;
+    /// Every worker of the assignment in force, as it reported this frame.
+    std::vector<WorkerView> workers;
 };
 
 /// What became of a command.
@@ -96,8 +127,14 @@ public:
     const std::optional<WorldFrame>& latest() const;
     /// What a body is (shape, mass, material), from the cluster's durable descriptions.
     std::optional<BodyDesc> description(BodyId id) const;
+    /// What a body of the latest frame is, found in its sector: cheap enough to call for every body.
+    std::optional<BodyDesc> description(const BodyView& body) const;
     /// The grid of the world (its sector size), once a cluster is seen.
     std::optional<SectorGrid> grid() const;
+    /// The world's settings (sector size, step, gravity, where it is on the Earth), once a cluster is seen.
+    std::optional<WorldSettings> settings() const;
+    /// The region this client follows, if it follows one.
+    const std::optional<Region>& region() const;
 
     /// Commands: each returns a request number; outcome() tells what became of it.
     std::uint64_t spawn(const BodyDesc& body);

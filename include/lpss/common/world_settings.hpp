@@ -5,6 +5,7 @@
 
 #include "lpss/common/combine_rule.hpp"
 #include "lpss/common/expected.hpp"
+#include "lpss/common/geo_reference.hpp"
 
 namespace lpss {
 
@@ -24,6 +25,7 @@ struct WorldSettings {
     int solver_iterations = 10;  ///< constraint solver iterations per step (Bullet's default is 10)
     CombineRule friction_combine = CombineRule::product;     ///< a contact's friction from its bodies'
     CombineRule restitution_combine = CombineRule::product;  ///< a contact's restitution from its bodies'
+    GeoReference geo;  ///< where the world is on the Earth, for geocentric clients; not used by the engine
 
     /// The substeps actually used (resolving 0).
     int substeps_per_frame() const;
@@ -42,8 +44,8 @@ struct WorldSettings {
 Status check_velocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular,
                       const WorldSettings& settings);
 
-/// Refuses non-finite or non-positive sizes and steps, a hysteresis outside [0, 1/4], and a sector size
-/// that breaks the precision bound. The message names the field.
+/// Refuses non-finite or non-positive sizes and steps, a hysteresis outside [0, 1/4], a sector size that
+/// breaks the precision bound, and a geo reference off the Earth's latitudes and longitudes. The message names the field.
 Status validate(const WorldSettings& settings);
 
 }  // namespace lpss

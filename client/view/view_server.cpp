@@ -1,0 +1,124 @@
+#include "view_server.hpp"
+
+#include <httplib.h>
+
+#include <filesystem>
+
+#include "page_assets.hpp"
+
+namespace lpss::view {
+
+namespace {
+
+/// The three.js files the page loads, as Debian's libjs-three (r111) installs them.
+constexpr const char* kThreeFiles[] = {"three.min.js", "examples/js/controls/OrbitControls.js"};
+
+}  // namespace
+
+ViewServer::ViewServer(const ViewServerOptions& options, PageFeed feed)
+    : options_(options), http_(std::make_unique<httplib::Server>()), feed_(std::move(feed)) {}
+
+Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions& options, PageFeed feed) {
+    for (const char* file : kThreeFiles) {
+        if (!std::filesystem::exists(std::filesystem::path(options.three_dir) / file)) {
+            return Error{"three.js not found: " + options.three_dir + "/" + file +
+                         " is missing (install Debian's libjs-three, or give --three-dir)"};
+        }
+    }
+    std::unique_ptr<ViewServer> server(new ViewServer(options, std::move(feed)));
+    httplib::Server& http = *server->http_;
+    for (const PageAsset& asset : page_assets()) {
+        http.Get(asset.path, [&asset](const httplib::Request&, httplib::Response& res) {
+            res.set_header("Cache-Control", "no-cache");
+            res.set_content(asset.content.data(), asset.content.size(), asset.mime);
+        });
+    }
+    http.Get("/", [](const httplib::Request&, httplib::Response& res) { res.set_redirect("/index.html"); });
+    // Only the files the page loads, not the whole folder.
+    for (const char* file : kThreeFiles) {
+        const std::string path = (std::filesystem::path(options.three_dir) / file).string();
+        const std::string url = std::string("/three/") + std::filesystem::path(file).filename().string();
+        http.Get(url, [path](const httplib::Request&, httplib::Response& res) {
+            std::ifstream in(path, std::ios::binary);
+            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            if (!in.good() && !in.eof()) {
+                res.status = 500;
+                return;
+            }
+            res.set_content(text, "text/javascript");
+        });
+    }
+    ViewServer* self = server.get();
+    http.Get("/events", [self](const httplib::Request&, httplib::Response& res) {
+        std::uint64_t page = 0;
+        {
+            std::lock_guard<std::mutex> lock(self->mutex_);
+            page = self->feed_.subscribe();
+        }
+        res.set_header("Cache-Control", "no-cache");
+        res.set_chunked_content_provider(
+            "text/event-stream",
+            [self, page](std::size_t, httplib::DataSink& sink) {
+                std::string text = self->next_events(page);
+                if (self->stopping_) return false;
+                if (text.empty()) text = ": waiting for the world\n\n";
+                return sink.write(text.data(), text.size());
+            },
+            [self, page](bool) {
+                std::lock_guard<std::mutex> lock(self->mutex_);
+                self->feed_.unsubscribe(page);
+                self->next_send_.erase(page);
+            });
+    });
+    if (options.port == 0) {
+        server->port_ = http.bind_to_any_port(options.listen);
+        if (server->port_ < 0) return Error{"cannot serve on " + options.listen + ": no free port"};
+    } else {
+        if (!http.bind_to_port(options.listen, options.port)) {
+            return Error{"cannot serve on " + options.listen + ":" + std::to_string(options.port) +
+                         " (in use, or not an address of this machine)"};
+        }
+        server->port_ = options.port;
+    }
+    server->serving_ = std::thread([self] { self->http_->listen_after_bind(); });
+    return server;
+}
+
+ViewServer::~ViewServer() {
+    stopping_ = true;
+    news_.notify_all();
+    http_->stop();
+    if (serving_.joinable()) serving_.join();
+}
+
+void ViewServer::take(const WorldFrame& frame, const PageFeed::Describe& describe) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        feed_.take(frame, describe);
+    }
+    news_.notify_all();
+}
+
+std::size_t ViewServer::pages() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return next_send_.size();
+}
+
+std::string ViewServer::next_events(std::uint64_t page) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+    auto& next = next_send_[page];
+    for (;;) {
+        if (stopping_) return {};
+        const auto now = std::chrono::steady_clock::now();
+        if (feed_.has_news(page) && now >= next) break;
+        const auto until = feed_.has_news(page) ? std::min(next, give_up) : give_up;
+        if (now >= give_up) return {};
+        news_.wait_until(lock, until);
+    }
+    next = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(1.0 / options_.max_rate_hz));
+    return feed_.events_for(page);
+}
+
+}  // namespace lpss::view
