@@ -24,6 +24,23 @@ if ((${#missing[@]})); then
     apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+if ! command -v npm >/dev/null 2>&1; then
+    echo "lpss: installing Debian's npm (for the pinned test tools in tests/node)"
+    if [[ $(id -u) -ne 0 ]]; then
+        echo "lpss: need root to install npm (run as root, or install it yourself)" >&2
+        exit 1
+    fi
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get install -y -qq --no-install-recommends npm >/dev/null
+fi
+# Test tools, pinned by tests/node/package-lock.json; installed again only when the lockfile changes.
+node_dir="$root/tests/node"
+if [[ ! -f "$node_dir/node_modules/.package-lock.json" ||
+    "$node_dir/package-lock.json" -nt "$node_dir/node_modules/.package-lock.json" ]]; then
+    echo "lpss: installing the test tools of tests/node (npm ci)"
+    (cd "$node_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi
+
 jobs="$(nproc 2>/dev/null || echo 2)"
 mkdir -p "$build"
 log="$build/build.log"

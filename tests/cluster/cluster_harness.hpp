@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -115,6 +116,38 @@ inline std::map<std::uint64_t, WorldFrame> collect(Client& client, std::uint64_t
     collect_into(client, frames, last, limit);
     return frames;
 }
+
+struct SimRow {
+    SectorPosition position;
+    Eigen::Quaterniond orientation;
+};
+
+/// Runs lpss-sim (LPSS_SIM) on the scene and reads its CSV: frame -> id -> state.
+inline std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& scene, int frames) {
+    const std::string csv = scene + ".sim.csv";
+    const std::string command = std::string(LPSS_SIM) + " " + scene + " --frames " + std::to_string(frames) +
+                                " --csv " + csv + " 2>/dev/null";
+    EXPECT_EQ(std::system(command.c_str()), 0);
+    std::map<std::uint64_t, std::map<BodyId, SimRow>> out;
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        std::istringstream row(line);
+        std::vector<std::string> f;
+        for (std::string cell; std::getline(row, cell, ',');)
+            f.push_back(cell);
+        SimRow r;
+        r.orientation =
+            Eigen::Quaterniond(std::stod(f[8]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7]));
+        r.position = SectorPosition{{std::stoll(f[12]), std::stoll(f[13]), std::stoll(f[14])},
+                                    {std::stod(f[15]), std::stod(f[16]), std::stod(f[17])}};
+        out[std::stoull(f[0])][std::stoull(f[1])] = r;
+    }
+    return out;
+}
+
+using SimFrames = std::map<std::uint64_t, std::map<BodyId, SimRow>>;
 
 /// A pkill -f pattern for one worker of a test's cluster. The bracket keeps it from matching the shell
 /// that runs pkill, whose own command line holds the pattern.

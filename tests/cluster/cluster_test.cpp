@@ -30,6 +30,9 @@ using testing::collect;
 using testing::collect_into;
 using testing::connect;
 using testing::read_file;
+using testing::run_sim;
+using testing::SimFrames;
+using testing::SimRow;
 using testing::start_cluster;
 using testing::worker_process;
 using testing::write_scene;
@@ -56,38 +59,6 @@ Scene crossing_scene() {
     scene.bodies.push_back(wall);
     return scene;
 }
-
-struct SimRow {
-    SectorPosition position;
-    Eigen::Quaterniond orientation;
-};
-
-/// Runs lpss-sim on the scene and reads its CSV: frame -> id -> state.
-std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& scene, int frames) {
-    const std::string csv = scene + ".sim.csv";
-    const std::string command = std::string(LPSS_SIM) + " " + scene + " --frames " + std::to_string(frames) +
-                                " --csv " + csv + " 2>/dev/null";
-    EXPECT_EQ(std::system(command.c_str()), 0);
-    std::map<std::uint64_t, std::map<BodyId, SimRow>> out;
-    std::ifstream in(csv);
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-        std::istringstream row(line);
-        std::vector<std::string> f;
-        for (std::string cell; std::getline(row, cell, ',');)
-            f.push_back(cell);
-        SimRow r;
-        r.orientation =
-            Eigen::Quaterniond(std::stod(f[8]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7]));
-        r.position = SectorPosition{{std::stoll(f[12]), std::stoll(f[13]), std::stoll(f[14])},
-                                    {std::stod(f[15]), std::stod(f[16]), std::stod(f[17])}};
-        out[std::stoull(f[0])][std::stoull(f[1])] = r;
-    }
-    return out;
-}
-
-using SimFrames = std::map<std::uint64_t, std::map<BodyId, SimRow>>;
 
 /// Checks every frame a client saw against lpss-sim's run of the same scene: empty if each frame holds
 /// exactly lpss-sim's bodies, else what the first that does not holds; `worst` is set to the largest

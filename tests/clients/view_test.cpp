@@ -1,0 +1,1 @@
+// lpss-view in a real browser: placeholder until the page lands (see the next commit).
