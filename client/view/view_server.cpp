@@ -11,7 +11,11 @@ namespace lpss::view {
 namespace {
 
 /// The three.js files the page loads, as Debian's libjs-three (r111) installs them.
-constexpr const char* kThreeFiles[] = {"three.min.js", "examples/js/controls/OrbitControls.js"};
+/// three.js itself, its orbit camera, and the convex hull of a hull shape's points (ConvexHull before
+/// ConvexGeometry, which uses it).
+constexpr const char* kThreeFiles[] = {"three.min.js", "examples/js/controls/OrbitControls.js",
+                                       "examples/js/math/ConvexHull.js",
+                                       "examples/js/geometries/ConvexGeometry.js"};
 
 }  // namespace
 

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
          run_cluster_scale},
         {"late-join", "clients joining a running cluster: time to match and to the first frame",
          run_late_join},
+        {"dis", "lpss-dis's Entity State PDUs against one per body per frame, at rest and moving", run_dis},
     };
     std::vector<std::pair<CLI::App*, const Sub*>> commands;
     for (const Sub& sub : subs)

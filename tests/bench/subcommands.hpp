@@ -17,5 +17,6 @@ void run_accuracy(const Context& context);
 void run_cluster(const Context& context);
 void run_cluster_scale(const Context& context);
 void run_late_join(const Context& context);
+void run_dis(const Context& context);
 
 }  // namespace lpss::bench
