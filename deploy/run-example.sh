@@ -1,10 +1,28 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, and runs the example scene on a localhost cluster (a
-# coordinator and two workers, in real time for 10 s), printing a live summary.
+# coordinator and two workers, in real time for 10 s), printing a live summary. lpss-view shows it in a
+# browser meanwhile, on this machine only: the address is printed first.
 # usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options]
+#        LPSS_VIEW_PORT=P picks the viewer's port (default 8090); LPSS_VIEW=0 runs without it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
 scene="${1:-$root/deploy/scenes/far_stacks.textproto}"
 shift || true
-exec "$root/build/server/lpss-cluster" "$scene" --workers 2 --frames 600 --realtime "$@"
+if [[ "${LPSS_VIEW:-1}" != 0 ]]; then
+    view_log="$root/build/lpss-view.log"
+    "$root/build/client/lpss-view" --port "${LPSS_VIEW_PORT:-8090}" >"$view_log" 2>&1 &
+    view=$!
+    trap 'kill "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true' EXIT
+    for _ in $(seq 50); do
+        grep -q "http://" "$view_log" 2>/dev/null && break
+        kill -0 "$view" 2>/dev/null || break
+        sleep 0.1
+    done
+    if address="$(grep -o 'http://[^ ]*' "$view_log")"; then
+        echo "lpss: watch the world at $address (lpss-view; open it in a browser on this machine)"
+    else
+        echo "lpss: lpss-view did not start (see $view_log); the cluster runs without it" >&2
+    fi
+fi
+"$root/build/server/lpss-cluster" "$scene" --workers 2 --frames 600 --realtime "$@"

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     options.content = lpss::FrameContent::changes;
     lpss::view::ViewServerOptions serve;
     std::string region;
-    int wait_s = 30;
+    int wait_s = 0;
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", options.profile,
                    "Fast DDS XML profile (default: built-in, this machine only)");
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1.0, 240.0));
     app.add_option("--three-dir", serve.three_dir, "where three.js is (Debian's libjs-three)");
     app.add_option("--name", options.name, "this client's name on the domain (unique per domain)");
-    app.add_option("--wait-s", wait_s, "how long to wait for a cluster");
+    app.add_option("--wait-s", wait_s, "how long to wait for a cluster (0: as long as it takes)");
     CLI11_PARSE(app, argc, argv);
     if (!region.empty()) {
         auto r = lpss::parse_region(region);
@@ -49,13 +49,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::atomic<bool>& stop = lpss::runtime::install_stop_signal();
-    if (!(*client)->wait_for_cluster(std::chrono::seconds(wait_s))) {
-        std::fprintf(stderr, "lpss-view: no lpss cluster found on domain %d within %d s\n", options.domain,
-                     wait_s);
-        return 3;
-    }
-    auto server = lpss::view::ViewServer::start(
-        serve, lpss::view::PageFeed(*(*client)->settings(), (*client)->region()));
+    // Served at once, so that the page can be opened before the cluster starts: it waits for the world.
+    auto server = lpss::view::ViewServer::start(serve, lpss::view::PageFeed((*client)->region()));
     if (!server) {
         std::fprintf(stderr, "lpss-view: %s\n", server.error().message.c_str());
         return 2;
@@ -64,6 +59,20 @@ int main(int argc, char** argv) {
                 serve.listen == "0.0.0.0" ? "127.0.0.1" : serve.listen.c_str(), (*server)->port(),
                 options.domain);
     std::fflush(stdout);
+    const auto looking = std::chrono::steady_clock::now();
+    bool said_waiting = false;
+    while (!stop.load() && !(*client)->wait_for_cluster(std::chrono::seconds(1))) {
+        if (wait_s > 0 && std::chrono::steady_clock::now() - looking > std::chrono::seconds(wait_s)) {
+            std::fprintf(stderr, "lpss-view: no lpss cluster found on domain %d within %d s\n",
+                         options.domain, wait_s);
+            return 3;
+        }
+        if (!said_waiting)
+            std::fprintf(stderr, "lpss-view: waiting for a cluster on domain %d\n", options.domain);
+        said_waiting = true;
+    }
+    if (stop.load()) return 0;
+    (*server)->set_world(*(*client)->settings());
     lpss::Client& c = **client;
     const lpss::view::PageFeed::Describe describe = [&c](const lpss::BodyView& b) {
         return c.description(b);
@@ -77,8 +86,8 @@ int main(int argc, char** argv) {
             said_gone = false;
         }
         // The page keeps showing the last frame; a cluster that comes back on the domain is followed again.
-        if (!said_gone && std::chrono::steady_clock::now() - last_data > std::chrono::seconds(wait_s)) {
-            std::fprintf(stderr, "lpss-view: no frame for %d s: the cluster is gone or stopped\n", wait_s);
+        if (!said_gone && std::chrono::steady_clock::now() - last_data > std::chrono::seconds(30)) {
+            std::fprintf(stderr, "lpss-view: no frame for 30 s: the cluster is gone or stopped\n");
             said_gone = true;
         }
     }

@@ -66,13 +66,18 @@ struct KindJson {
 
 }  // namespace
 
-PageFeed::PageFeed(WorldSettings settings, std::optional<Region> region)
-    : settings_(std::move(settings)), region_(std::move(region)) {}
+PageFeed::PageFeed(std::optional<Region> region) : region_(std::move(region)) {}
+
+void PageFeed::set_world(const WorldSettings& settings) {
+    settings_ = settings;
+    for (auto& [id, page] : pages_)
+        page.world_sent = false;
+}
 
 bool PageFeed::on_border(const BodyView& body, double radius) const {
-    if (!std::isfinite(radius)) return false;  // a plane is in no sector's world
+    if (!std::isfinite(radius) || !settings_) return false;  // a plane is in no sector's world
     bool reaches = false;
-    neighbours_within(body.position.local, settings_.sector_size, radius,
+    neighbours_within(body.position.local, settings_->sector_size, radius,
                       [&](const SectorKey&) { reaches = true; });
     return reaches;
 }
@@ -136,13 +141,14 @@ void PageFeed::unsubscribe(std::uint64_t page) { pages_.erase(page); }
 
 bool PageFeed::has_news(std::uint64_t page) const {
     auto it = pages_.find(page);
-    return it != pages_.end() && frame_ != 0 && (it->second.frame_sent != frame_ || !it->second.world_sent);
+    return it != pages_.end() && settings_ && frame_ != 0 &&
+           (it->second.frame_sent != frame_ || !it->second.world_sent);
 }
 
 std::string PageFeed::world_event() const {
-    std::string out = "event: world\ndata: {\"sector_size\":" + number(settings_.sector_size) +
-                      ",\"hysteresis\":" + number(settings_.hysteresis) +
-                      ",\"gravity\":" + vec(settings_.gravity) + ",\"region\":";
+    std::string out = "event: world\ndata: {\"sector_size\":" + number(settings_->sector_size) +
+                      ",\"hysteresis\":" + number(settings_->hysteresis) +
+                      ",\"gravity\":" + vec(settings_->gravity) + ",\"region\":";
     if (region_) {
         out += fmt::format("{{\"lo\":[{},{},{}],\"hi\":[{},{},{}]}}", region_->lo.i, region_->lo.j,
                            region_->lo.k, region_->hi.i, region_->hi.j, region_->hi.k);

@@ -25,7 +25,12 @@ public:
     /// Tells what a body is (shape, name, mass) the first time it is seen; nothing if unknown.
     using Describe = std::function<std::optional<BodyDesc>(const BodyView&)>;
 
-    PageFeed(WorldSettings settings, std::optional<Region> region);
+    /// A feed for pages of a client following `region` (the whole world if empty). Pages wait until the
+    /// world is known (set_world) and its first frame has come.
+    explicit PageFeed(std::optional<Region> region);
+
+    /// The world's settings, once a cluster is found (again: a new cluster on the domain may differ).
+    void set_world(const WorldSettings& settings);
 
     /// Takes a frame of changes (FrameContent::changes) from the client.
     void take(const WorldFrame& frame, const Describe& describe);
@@ -61,7 +66,7 @@ private:
     static std::string kind_json(const BodyDesc& desc);
     void body_json(std::string& out, const Body& body) const;
 
-    WorldSettings settings_;
+    std::optional<WorldSettings> settings_;
     std::optional<Region> region_;
     std::unordered_map<BodyId, Body> bodies_;
     std::unordered_map<BodyId, std::string> kinds_;  ///< each body's kind as JSON, made once

@@ -95,6 +95,14 @@ ViewServer::~ViewServer() {
     if (serving_.joinable()) serving_.join();
 }
 
+void ViewServer::set_world(const WorldSettings& settings) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        feed_.set_world(settings);
+    }
+    news_.notify_all();
+}
+
 void ViewServer::take(const WorldFrame& frame, const PageFeed::Describe& describe) {
     {
         std::lock_guard<std::mutex> lock(mutex_);

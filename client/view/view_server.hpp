@@ -38,6 +38,8 @@ public:
     ViewServer& operator=(const ViewServer&) = delete;
 
     int port() const { return port_; }
+    /// Tells the pages what world they show, once a cluster is found.
+    void set_world(const WorldSettings& settings);
     /// Passes a client frame to the pages (from the thread that polls the client).
     void take(const WorldFrame& frame, const PageFeed::Describe& describe);
     /// Pages connected now.

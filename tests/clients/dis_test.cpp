@@ -81,8 +81,8 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
     const std::string err = copy + ".decoder.err";
     // The decoder listens before anything is sent; it stops on its own (--seconds) if the test fails.
     auto decoder = runtime::ChildProcess::start(
-        "/bin/sh", {"-c", "exec node " + std::string(LPSS_SOURCE_DIR) + "/tests/dis/decode_pdus.js 39146 --seconds 90 > " +
-                              out + " 2> " + err});
+        "/bin/sh", {"-c", "exec node " + std::string(LPSS_SOURCE_DIR) +
+                              "/tests/dis/decode_pdus.js 39146 --seconds 90 > " + out + " 2> " + err});
     ASSERT_TRUE(decoder);
     for (int n = 0; n < 100 && read_file(err).find("listening") == std::string::npos; ++n)
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -167,7 +167,8 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
             ASSERT_TRUE(sim.count(r.frame)) << "entity " << entity << " stamped at frame " << r.frame;
             const SectorGrid grid(scene->settings.sector_size);
             const testing::SimRow& truth = sim.at(r.frame).at(entity);
-            worst_at_send = std::max(worst_at_send, (r.state.location - grid.to_global(truth.position)).norm());
+            worst_at_send =
+                std::max(worst_at_send, (r.state.location - grid.to_global(truth.position)).norm());
             worst_angle = std::max(worst_angle, r.state.orientation.angularDistance(truth.orientation));
             // What a receiver shows at each frame until the next PDU: within the position threshold (1 m)
             // of the world, give or take the cluster's bound of lpss-sim (1e-3).
@@ -177,8 +178,8 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
                     dis::extrapolate(r.state, r.algorithm, static_cast<double>(f - r.frame) * dt);
                 const double off = (shown.location - grid.to_global(sim.at(f).at(entity).position)).norm();
                 worst_reckoned = std::max(worst_reckoned, off);
-                ASSERT_LE(off, 1.0 + 1e-3) << "entity " << entity << " at frame " << f << ", last PDU at "
-                                           << r.frame;
+                ASSERT_LE(off, 1.0 + 1e-3)
+                    << "entity " << entity << " at frame " << f << ", last PDU at " << r.frame;
             }
             if (at_rest && n > 0) {
                 // The heartbeat: every 5 s (300 frames), not more often.
@@ -188,18 +189,20 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
         if (at_rest) {
             ++resting;
             EXPECT_GE(received.size(), 2u) << "entity " << entity << " got no heartbeat in 12 s";
-            EXPECT_EQ(received.back().frame + 300 > kFrames, true) << "entity " << entity << " missed its last heartbeat";
+            EXPECT_EQ(received.back().frame + 300 > kFrames, true)
+                << "entity " << entity << " missed its last heartbeat";
         }
     }
     EXPECT_GE(resting, 10u) << "the crates should rest";
     EXPECT_LE(worst_at_send, 1e-3);
     EXPECT_LE(worst_angle, 1e-4);
     const double every_frame = static_cast<double>(expected_entities.size()) * kFrames;
-    std::printf("%zu PDUs for %zu entities over %d frames (%.1f%% of one per body per frame); worst position at "
-                "send %.2g m, worst dead-reckoned position %.3g m, worst orientation %.2g rad; %zu entities at "
-                "rest\n",
-                pdus, expected_entities.size(), kFrames, 100.0 * static_cast<double>(pdus) / every_frame,
-                worst_at_send, worst_reckoned, worst_angle, resting);
+    std::printf(
+        "%zu PDUs for %zu entities over %d frames (%.1f%% of one per body per frame); worst position at "
+        "send %.2g m, worst dead-reckoned position %.3g m, worst orientation %.2g rad; %zu entities at "
+        "rest\n",
+        pdus, expected_entities.size(), kFrames, 100.0 * static_cast<double>(pdus) / every_frame,
+        worst_at_send, worst_reckoned, worst_angle, resting);
     EXPECT_LT(static_cast<double>(pdus), 0.25 * every_frame);
 }
 
