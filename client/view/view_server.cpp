@@ -2,7 +2,9 @@
 
 #include <httplib.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "page_assets.hpp"
 
@@ -53,11 +55,20 @@ Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions&
         });
     }
     ViewServer* self = server.get();
-    http.Get("/events", [self](const httplib::Request&, httplib::Response& res) {
+    http.Get("/events", [self](const httplib::Request& req, httplib::Response& res) {
+        // A page may ask for fewer frames a second than --max-rate (?rate=N), never for more.
+        double rate = self->options_.max_rate_hz;
+        if (req.has_param("rate")) {
+            const double asked = std::strtod(req.get_param_value("rate").c_str(), nullptr);
+            if (asked > 0.0 && asked < rate) rate = asked;
+        }
         std::uint64_t page = 0;
         {
             std::lock_guard<std::mutex> lock(self->mutex_);
             page = self->feed_.subscribe();
+            self->pace_[page] = Pace{std::chrono::steady_clock::now(),
+                                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(1.0 / rate))};
         }
         res.set_header("Cache-Control", "no-cache");
         res.set_chunked_content_provider(
@@ -71,7 +82,7 @@ Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions&
             [self, page](bool) {
                 std::lock_guard<std::mutex> lock(self->mutex_);
                 self->feed_.unsubscribe(page);
-                self->next_send_.erase(page);
+                self->pace_.erase(page);
             });
     });
     if (options.port == 0) {
@@ -113,13 +124,14 @@ void ViewServer::take(const WorldFrame& frame, const PageFeed::Describe& describ
 
 std::size_t ViewServer::pages() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return next_send_.size();
+    return pace_.size();
 }
 
 std::string ViewServer::next_events(std::uint64_t page) {
     std::unique_lock<std::mutex> lock(mutex_);
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-    auto& next = next_send_[page];
+    Pace& pace = pace_[page];
+    auto& next = pace.next;
     for (;;) {
         if (stopping_) return {};
         const auto now = std::chrono::steady_clock::now();

@@ -58,7 +58,11 @@ private:
     mutable std::mutex mutex_;
     std::condition_variable news_;
     PageFeed feed_;
-    std::map<std::uint64_t, std::chrono::steady_clock::time_point> next_send_;
+    struct Pace {
+        std::chrono::steady_clock::time_point next;
+        std::chrono::steady_clock::duration interval;
+    };
+    std::map<std::uint64_t, Pace> pace_;  ///< per page: when it may be sent its next frame
     std::atomic<bool> stopping_{false};
 };
 

@@ -447,7 +447,11 @@
 
   function connect() {
     if (typeof EventSource !== 'function') { report('events', 'EventSource is not supported'); return; }
-    const es = new EventSource(params.get('events') || 'events');
+    // ?rate=N asks the server for at most N frames a second (it sends at most its --max-rate anyway): a
+    // page on a slow machine need not be sent more than it draws.
+    const rate = Number(params.get('rate'));
+    const eventsUrl = (params.get('events') || 'events') + (rate > 0 ? '?rate=' + rate : '');
+    const es = new EventSource(eventsUrl);
     stream = es;
     const on = (name, fn) => es.addEventListener(name, (e) => {
       let m;
