@@ -267,3 +267,36 @@ TEST(Scene, LoadReportsAMissingFile) {
 
 }  // namespace
 }  // namespace lpss
+
+namespace lpss {
+namespace {
+
+TEST(Scene, SaysWhereItIsOnTheEarthAndRefusesAPlaceOffIt) {
+    const std::string base = "sector_size: 64\n";
+    Expected<Scene> ecef = parse_scene(base + "geo { ecef {} }", "ecef");
+    ASSERT_TRUE(ecef) << ecef.error().message;
+    EXPECT_EQ(ecef->settings.geo.frame, GeoReference::Frame::ecef);
+    Expected<Scene> tangent = parse_scene(
+        base + "geo { local_tangent { latitude_deg: 51.195 longitude_deg: -1.85 height_m: 130 } }",
+        "tangent");
+    ASSERT_TRUE(tangent) << tangent.error().message;
+    EXPECT_EQ(tangent->settings.geo.frame, GeoReference::Frame::local_tangent);
+    EXPECT_EQ(tangent->settings.geo.latitude_deg, 51.195);
+    EXPECT_EQ(tangent->settings.geo.longitude_deg, -1.85);
+    EXPECT_EQ(tangent->settings.geo.height_m, 130.0);
+    // Written and read back, it says the same.
+    const Scene again = parse_scene(format_scene(*tangent), "again").value();
+    EXPECT_EQ(again.settings.geo.frame, GeoReference::Frame::local_tangent);
+    EXPECT_EQ(again.settings.geo.latitude_deg, 51.195);
+    EXPECT_EQ(parse_scene(base, "none")->settings.geo.frame, GeoReference::Frame::none);
+    Expected<Scene> off = parse_scene(base + "geo { local_tangent { latitude_deg: 91 } }", "off");
+    ASSERT_FALSE(off);
+    EXPECT_NE(off.error().message.find("latitude_deg in [-90, 90]"), std::string::npos)
+        << off.error().message;
+    Expected<Scene> nan = parse_scene(base + "geo { local_tangent { longitude_deg: nan } }", "nan");
+    ASSERT_FALSE(nan);
+    EXPECT_NE(nan.error().message.find("geo.local_tangent"), std::string::npos) << nan.error().message;
+}
+
+}  // namespace
+}  // namespace lpss

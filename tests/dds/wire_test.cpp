@@ -133,6 +133,7 @@ TEST(Wire, WorldSettingsRoundTrip) {
     s.solver_iterations = 25;
     s.friction_combine = CombineRule::geometric_mean;
     s.restitution_combine = CombineRule::min;
+    s.geo = GeoReference{GeoReference::Frame::local_tangent, 51.195, -1.85, 130.0};
     const WorldSettings back = from_wire(to_wire(s));
     EXPECT_EQ(back.sector_size, s.sector_size);
     EXPECT_EQ(back.dt, s.dt);
@@ -144,6 +145,10 @@ TEST(Wire, WorldSettingsRoundTrip) {
     EXPECT_EQ(back.solver_iterations, s.solver_iterations);
     EXPECT_EQ(back.friction_combine, CombineRule::geometric_mean);
     EXPECT_EQ(back.restitution_combine, CombineRule::min);
+    EXPECT_EQ(back.geo.frame, GeoReference::Frame::local_tangent);  // clients (lpss-dis) read it
+    EXPECT_EQ(back.geo.latitude_deg, 51.195);
+    EXPECT_EQ(back.geo.longitude_deg, -1.85);
+    EXPECT_EQ(back.geo.height_m, 130.0);
 }
 
 TEST(Wire, UnreadableProfileIsRefused) {
