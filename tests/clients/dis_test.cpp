@@ -88,8 +88,12 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
     ASSERT_NE(read_file(err).find("listening"), std::string::npos) << read_file(err);
 
-    auto cluster = start_cluster(copy, kDomain, 2, kFrames, {"--await-clients", "1"});
+    // Two clients: lpss-dis, and this test's, which removes a crate mid-run.
+    auto cluster = start_cluster(copy, kDomain, 2, kFrames, {"--await-clients", "2"});
     ASSERT_TRUE(cluster.process);
+    auto remover = testing::connect(kDomain, "dis-test-remover", std::nullopt, FrameContent::changes);
+    ASSERT_TRUE(remover);
+    ASSERT_TRUE(remover->wait_for_cluster(std::chrono::seconds(60)));
     const std::string gateway_log = copy + ".lpss-dis.log";
     auto gateway = runtime::ChildProcess::start(
         LPSS_DIS,
@@ -97,6 +101,15 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
          "--application", "5", "--relative-timestamps", "--frames", std::to_string(kFrames)},
         gateway_log);
     ASSERT_TRUE(gateway);
+    constexpr BodyId kRemoved = 219;  // a crate at rest
+    std::uint64_t newest = 0;
+    for (auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+         newest < 240 && std::chrono::steady_clock::now() < end;) {
+        for (const WorldFrame& f : remover->poll(std::chrono::milliseconds(20)))
+            newest = f.frame;
+    }
+    const auto removal = remover->wait_outcome(remover->remove(kRemoved), std::chrono::seconds(10));
+    ASSERT_TRUE(removal && removal->applied) << (removal ? removal->reason : "no answer");
     EXPECT_TRUE(gateway->wait(std::chrono::seconds(120))) << read_file(gateway_log);
     EXPECT_EQ(gateway->exit_code(), 0) << read_file(gateway_log);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last datagrams reach the decoder
@@ -160,10 +173,18 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
             }
             return true;
         }();
+        // The removed crate's last PDU, at the frame it was removed, says it is deactivated; none before.
+        const bool removed = entity == kRemoved;
+        if (removed) {
+            EXPECT_EQ(received.back().appearance, dis::kAppearanceDeactivated);
+            EXPECT_EQ(received.back().frame, removal->frame) << "deactivated at the frame it was removed";
+        }
         for (std::size_t n = 0; n < received.size(); ++n) {
             const Received& r = received[n];
             EXPECT_EQ(r.algorithm, dis::dead_reckoning_algorithm::kRvw);
-            EXPECT_EQ(r.appearance, 0u) << "no body leaves this world";
+            if (!(removed && n + 1 == received.size())) {
+                EXPECT_EQ(r.appearance, 0u) << "entity " << entity << " at frame " << r.frame;
+            }
             ASSERT_TRUE(sim.count(r.frame)) << "entity " << entity << " stamped at frame " << r.frame;
             const SectorGrid grid(scene->settings.sector_size);
             const testing::SimRow& truth = sim.at(r.frame).at(entity);
@@ -181,12 +202,12 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
                 ASSERT_LE(off, 1.0 + 1e-3)
                     << "entity " << entity << " at frame " << f << ", last PDU at " << r.frame;
             }
-            if (at_rest && n > 0) {
+            if (at_rest && n > 0 && !(removed && n + 1 == received.size())) {
                 // The heartbeat: every 5 s (300 frames), not more often.
                 EXPECT_EQ(r.frame - received[n - 1].frame, 300u) << "entity " << entity;
             }
         }
-        if (at_rest) {
+        if (at_rest && !removed) {
             ++resting;
             EXPECT_GE(received.size(), 2u) << "entity " << entity << " got no heartbeat in 12 s";
             EXPECT_EQ(received.back().frame + 300 > kFrames, true)
