@@ -88,6 +88,21 @@ DeadReckoningState DisGateway::truth(const Entity& e) const {
     return s;
 }
 
+std::vector<EntityStatePdu> DisGateway::deactivate_all(const WorldFrame& last) {
+    std::vector<EntityStatePdu> out;
+    const std::uint32_t stamp = timestamp(last);
+    for (const auto& [id, e] : entities_) {
+        EntityStatePdu p = pdu(e, truth(e), stamp);
+        p.appearance |= kAppearanceDeactivated;
+        out.push_back(p);
+    }
+    counts_.deactivations += out.size();
+    counts_.pdus += out.size();
+    entities_.clear();
+    numbers_.clear();
+    return out;
+}
+
 std::uint32_t DisGateway::timestamp(const WorldFrame& frame) const {
     if (options_.relative_timestamps)
         return dis_timestamp(std::fmod(static_cast<double>(frame.frame) * settings_.dt, 3600.0), false);
@@ -116,7 +131,10 @@ EntityStatePdu DisGateway::pdu(const Entity& e, const DeadReckoningState& s, std
 
 std::vector<EntityStatePdu> DisGateway::take(const WorldFrame& frame, const Describe& describe) {
     std::vector<EntityStatePdu> out;
-    const double now = static_cast<double>(frame.frame) * settings_.dt;
+    // On the wall clock (absolute timestamps), receivers go on extrapolating through a pause: the jump in
+    // time makes the gateway correct them. On the world's clock (relative timestamps) nothing passes.
+    const double now = static_cast<double>(frame.frame) * settings_.dt +
+                       (options_.relative_timestamps ? 0.0 : frame.time_lost_s);
     const std::uint32_t stamp = timestamp(frame);
     ++counts_.frames;
     auto deactivate = [&](std::map<BodyId, Entity>::iterator it) {

@@ -5,8 +5,9 @@
 // appearance bit, as receivers expect. Planes are not entities (a DIS entity has a place; a plane is
 // everywhere).
 //
-// Time is the world's: frame * dt. DR intervals then do not depend on how late frames reach this client,
-// and a --realtime cluster's time is wall time.
+// Time is the world's: frame * dt, plus (with absolute timestamps) the time a --realtime cluster has let go
+// in its pauses, which makes it wall time for such a cluster whatever the delay before frames reach this
+// client. A cluster not run in real time moves faster than the receivers' clocks, and lpss-dis says so.
 #pragma once
 
 #include <cstdint>
@@ -53,6 +54,10 @@ public:
     /// new to the gateway (its marking) and tells planes apart.
     using Describe = std::function<std::optional<BodyDesc>(const BodyView&)>;
     std::vector<EntityStatePdu> take(const WorldFrame& frame, const Describe& describe);
+
+    /// Last PDUs for every entity, deactivated, for a gateway that stops (receivers drop the entities
+    /// at once instead of at their timeout). The gateway holds no entity afterwards.
+    std::vector<EntityStatePdu> deactivate_all(const WorldFrame& last);
 
     /// The DIS entity number of a body: its id where that fits in 1..65534, otherwise one given in order
     /// of appearance from the numbers no body id uses (logged when given).

@@ -113,7 +113,12 @@ EntityMarking ascii_marking(std::string_view text) {
     EntityMarking marking;
     marking.character_set = kMarkingCharacterSetAscii;
     const std::size_t count = std::min(text.size(), marking.characters.size());
-    std::copy_n(text.begin(), count, marking.characters.begin());
+    // Character set 1 is ASCII: anything else (a byte of a UTF-8 name, a control character) becomes '?'.
+    std::transform(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(count),
+                   marking.characters.begin(), [](char c) {
+                       const auto u = static_cast<unsigned char>(c);
+                       return static_cast<std::uint8_t>(u >= 0x20 && u < 0x7f ? u : '?');
+                   });
     return marking;
 }
 

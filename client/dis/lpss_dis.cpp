@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "dis_gateway.hpp"
 #include "lpss/client/client.hpp"
@@ -36,8 +37,10 @@ int main(int argc, char** argv) {
     app.add_flag("--broadcast", broadcast, "allow a broadcast --dis-address");
     app.add_option("--multicast-ttl", ttl, "hops for a multicast --dis-address")->check(CLI::Range(0, 255));
     app.add_option("--exercise", exercise, "DIS exercise id")->check(CLI::Range(0, 255));
-    app.add_option("--site", gateway.site, "DIS site number of every entity");
-    app.add_option("--application", gateway.application, "DIS application number of every entity");
+    app.add_option("--site", gateway.site, "DIS site number of every entity (1-65534)")
+        ->check(CLI::Range(1, 65534));
+    app.add_option("--application", gateway.application, "DIS application number of every entity (1-65534)")
+        ->check(CLI::Range(1, 65534));
     app.add_option("--dead-reckoning", algorithm, "rvw (DRM_RVW, rotating, acceleration) or fvw (DRM_FVW)")
         ->check(CLI::IsMember({"rvw", "fvw"}));
     app.add_option("--position-threshold", gateway.thresholds.position_m,
@@ -88,47 +91,85 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "lpss-dis: %s\n", made.error().message.c_str());
         return 2;
     }
-    lpss::dis::DisGateway& dis = made.value();
+    std::optional<lpss::dis::DisGateway> dis(std::move(made).value());
     std::printf("lpss-dis: world of domain %d to DIS exercise %d at %s:%u\n", options.domain, exercise,
                 address.c_str(), static_cast<unsigned>(port));
     std::fflush(stdout);
     const lpss::dis::DisGateway::Describe describe = [&c](const lpss::BodyView& b) {
         return c.description(b);
     };
-    std::uint64_t seen = 0, bytes = 0, last_pdus = 0, last_body_frames = 0, last_bytes = 0;
+    std::uint64_t seen = 0, bytes = 0, pdus = 0, last_pdus = 0, last_body_frames = 0, last_bytes = 0;
+    auto send_all = [&](const std::vector<lpss::dis::EntityStatePdu>& out) {
+        for (const lpss::dis::EntityStatePdu& pdu : out) {
+            const auto wire = lpss::dis::encode(pdu);
+            if (sender->send(wire.data(), wire.size())) bytes += wire.size();
+        }
+        pdus += out.size();
+    };
     auto last_print = std::chrono::steady_clock::now();
     auto last_data = last_print;
+    std::optional<lpss::WorldFrame> last;
+    // Whether the world keeps the receivers' pace: measured over the first frames, said once.
+    std::optional<lpss::WorldFrame> pace_from;
+    bool pace_said = false;
+    int exit_code = 0;
     while ((frames == 0 || seen < frames) && !stop.load()) {
-        for (const lpss::WorldFrame& f : c.poll(std::chrono::milliseconds(50))) {
+        for (lpss::WorldFrame& f : c.poll(std::chrono::milliseconds(50))) {
+            if (last && f.frame < last->frame) {
+                // Frame numbers went back: another cluster on the domain. Its bodies are new entities.
+                std::fprintf(
+                    stderr, "lpss-dis: frame %llu after %llu: a new cluster; its entities start over\n",
+                    static_cast<unsigned long long>(f.frame), static_cast<unsigned long long>(last->frame));
+                send_all(dis->deactivate_all(*last));
+                auto again = lpss::dis::DisGateway::create(*c.settings(), gateway);
+                if (!again) {
+                    std::fprintf(stderr, "lpss-dis: %s\n", again.error().message.c_str());
+                    return 2;
+                }
+                dis.emplace(std::move(again).value());
+                pace_from.reset();
+            }
             ++seen;
             last_data = std::chrono::steady_clock::now();
-            for (const lpss::dis::EntityStatePdu& pdu : dis.take(f, describe)) {
-                const auto wire = lpss::dis::encode(pdu);
-                if (sender->send(wire.data(), wire.size())) bytes += wire.size();
+            send_all(dis->take(f, describe));
+            if (!pace_from) pace_from = f;
+            if (!pace_said && f.frame >= pace_from->frame + 120) {
+                const double world_s = static_cast<double>(f.frame - pace_from->frame) * c.settings()->dt;
+                const double wall_s = std::chrono::duration<double>(f.started - pace_from->started).count();
+                if (world_s > 1.5 * wall_s) {
+                    std::fprintf(
+                        stderr,
+                        "lpss-dis: the world runs %.1fx faster than real time (a cluster without "
+                        "--realtime): DIS receivers dead-reckon on their own clocks and will lag it\n",
+                        world_s / wall_s);
+                }
+                pace_said = true;
             }
+            last = std::move(f);
         }
         const auto now = std::chrono::steady_clock::now();
         if (now - last_data > std::chrono::seconds(wait_s)) {
             std::fprintf(stderr, "lpss-dis: no frame for %d s: the cluster is gone\n", wait_s);
+            exit_code = 3;
             break;
         }
         if (now - last_print >= std::chrono::seconds(5)) {
             const double s = std::chrono::duration<double>(now - last_print).count();
-            const lpss::dis::GatewayCounts& n = dis.counts();
+            const std::uint64_t body_frames = dis->counts().body_frames;
             fmt::print(
                 "lpss-dis: {:.0f} PDUs/s, {:.0f} B/s; one PDU per body per frame would be {:.0f}/s; {} send "
                 "errors\n",
-                (n.pdus - last_pdus) / s, (bytes - last_bytes) / s, (n.body_frames - last_body_frames) / s,
+                (pdus - last_pdus) / s, (bytes - last_bytes) / s, (body_frames - last_body_frames) / s,
                 sender->errors());
             std::fflush(stdout);
-            last_pdus = n.pdus, last_bytes = bytes, last_body_frames = n.body_frames, last_print = now;
+            last_pdus = pdus, last_bytes = bytes, last_body_frames = body_frames, last_print = now;
         }
     }
-    const lpss::dis::GatewayCounts& n = dis.counts();
-    std::fprintf(stderr,
-                 "lpss-dis: %llu frames, %llu PDUs (%llu heartbeats, %llu deactivations), %llu bytes\n",
-                 static_cast<unsigned long long>(seen), static_cast<unsigned long long>(n.pdus),
-                 static_cast<unsigned long long>(n.heartbeats),
-                 static_cast<unsigned long long>(n.deactivations), static_cast<unsigned long long>(bytes));
-    return 0;
+    // Whatever ends it (Ctrl-C, --frames, the cluster gone), receivers are told the entities are gone.
+    if (last) send_all(dis->deactivate_all(*last));
+    std::fprintf(stderr, "lpss-dis: %llu frames, %llu PDUs (%llu deactivations), %llu bytes\n",
+                 static_cast<unsigned long long>(seen), static_cast<unsigned long long>(pdus),
+                 static_cast<unsigned long long>(dis->counts().deactivations),
+                 static_cast<unsigned long long>(bytes));
+    return exit_code;
 }

@@ -671,17 +671,17 @@ std::optional<WorldSettings> Client::settings() const { return state_->settings;
 const std::optional<Region>& Client::region() const { return state_->options.region; }
 
 Expected<Region> parse_region(const std::string& text) {
+    const std::string usage =
+        "--region wants six sector indices: i_lo,i_hi,j_lo,j_hi,k_lo,k_hi; got '" + text + "'";
     std::istringstream in(text);
     std::int64_t v[6];
     char comma = 0;
     for (int n = 0; n < 6; ++n) {
-        if (!(in >> v[n]) || (n < 5 && (!(in >> comma) || comma != ','))) {
-            return Error{"--region wants six sector indices: i_lo,i_hi,j_lo,j_hi,k_lo,k_hi; got '" + text +
-                         "'"};
-        }
+        if (!(in >> v[n]) || (n < 5 && (!(in >> comma) || comma != ','))) return Error{usage};
     }
+    if (!(in >> std::ws).eof()) return Error{usage};  // something after the sixth
     if (v[0] > v[1] || v[2] > v[3] || v[4] > v[5])
-        return Error{"--region: each low index must be <= its high"};
+        return Error{"--region: each low index must be <= its high; got '" + text + "'"};
     return Region{{v[0], v[2], v[4]}, {v[1], v[3], v[5]}};
 }
 

@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
         "address to serve on (default 127.0.0.1: this machine only; 0.0.0.0 opens it to the network)");
     app.add_option("--max-rate", serve.max_rate_hz, "frames sent to each page per second at most")
         ->check(CLI::Range(1.0, 240.0));
+    app.add_option("--max-pages", serve.max_pages, "pages open at once (each holds a thread)")
+        ->check(CLI::Range(1, 64));
     app.add_option("--three-dir", serve.three_dir, "where three.js is (Debian's libjs-three)");
     app.add_option("--name", options.name, "this client's name on the domain (unique per domain)");
     app.add_option("--wait-s", wait_s, "how long to wait for a cluster (0: as long as it takes)");
@@ -85,7 +87,7 @@ int main(int argc, char** argv) {
             last_data = std::chrono::steady_clock::now();
             said_gone = false;
         }
-        // The page keeps showing the last frame; a cluster that comes back on the domain is followed again.
+        // The page keeps showing the last frame.
         if (!said_gone && std::chrono::steady_clock::now() - last_data > std::chrono::seconds(30)) {
             std::fprintf(stderr, "lpss-view: no frame for 30 s: the cluster is gone or stopped\n");
             said_gone = true;

@@ -84,6 +84,14 @@ bool PageFeed::on_border(const BodyView& body, double radius) const {
 
 void PageFeed::take(const WorldFrame& frame, const Describe& describe) {
     if (frame.every_body) {
+        // Bodies not in a frame of every body have left: their kinds go with them.
+        std::unordered_set<BodyId> now;
+        for (const BodyView& b : frame.bodies)
+            now.insert(b.id);
+        for (auto it = kinds_.begin(); it != kinds_.end();)
+            it = now.count(it->first) ? std::next(it) : kinds_.erase(it);
+        for (auto it = radii_.begin(); it != radii_.end();)
+            it = now.count(it->first) ? std::next(it) : radii_.erase(it);
         bodies_.clear();
         for (auto& [id, page] : pages_)
             page.every_body = true;
@@ -162,7 +170,8 @@ std::string PageFeed::world_event() const {
 }
 
 std::string PageFeed::kind_json(const BodyDesc& desc) {
-    std::string out = "{\"id\":" + std::to_string(desc.id) + ",\"name\":";
+    // Ids as strings: a JSON number past 2^53 loses digits in the browser.
+    std::string out = "{\"id\":\"" + std::to_string(desc.id) + "\",\"name\":";
     append_json_string(out, desc.name);
     std::visit(KindJson{out}, desc.shape);
     return out + ",\"mass\":" + number(desc.mass) + "}";
@@ -171,9 +180,9 @@ std::string PageFeed::kind_json(const BodyDesc& desc) {
 void PageFeed::body_json(std::string& out, const Body& body) const {
     const BodyView& b = body.view;
     const Eigen::Quaterniond& q = b.orientation;
-    out += fmt::format("[{},{:.17g},{:.17g},{:.17g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{}]", b.id,
-                       b.global.x(), b.global.y(), b.global.z(), q.x(), q.y(), q.z(), q.w(), b.worker,
-                       b.awake ? 1 : 0, body.on_border ? 1 : 0);
+    out += fmt::format("[\"{}\",{},{},{},{},{},{},{},{},{},{}]", b.id, number(b.global.x()),
+                       number(b.global.y()), number(b.global.z()), number(q.x()), number(q.y()),
+                       number(q.z()), number(q.w()), b.worker, b.awake ? 1 : 0, body.on_border ? 1 : 0);
 }
 
 std::string PageFeed::events_for(std::uint64_t id) {
@@ -214,20 +223,20 @@ std::string PageFeed::events_for(std::uint64_t id) {
         std::vector<BodyId> departed(page.departed.begin(), page.departed.end());
         std::sort(departed.begin(), departed.end());
         for (std::size_t n = 0; n < departed.size(); ++n)
-            out += (n ? "," : "") + std::to_string(departed[n]);
+            out += fmt::format("{}\"{}\"", n ? "," : "", departed[n]);
     }
     out += "],\"handoffs\":[";
     for (std::size_t n = 0; n < page.handoffs.size(); ++n) {
         const HandoffView& h = page.handoffs[n];
-        out += fmt::format("{}[{},{},{},{}]", n ? "," : "", h.body, h.from_worker, h.to_worker, h.frame);
+        out += fmt::format("{}[\"{}\",{},{},{}]", n ? "," : "", h.body, h.from_worker, h.to_worker, h.frame);
     }
     out += "],\"workers\":[";
     for (std::size_t n = 0; n < workers_.size(); ++n) {
         const WorkerView& w = workers_[n];
         out += fmt::format(
             "{}{{\"id\":{},\"sectors\":{},\"bodies\":{},\"ghosts\":{},\"clones\":{},\"awake\":{},"
-            "\"step_ms\":{:.3f}}}",
-            n ? "," : "", w.id, w.sectors, w.bodies, w.ghosts, w.clones, w.awake, w.step_ms);
+            "\"step_ms\":{}}}",
+            n ? "," : "", w.id, w.sectors, w.bodies, w.ghosts, w.clones, w.awake, number(w.step_ms));
     }
     out += fmt::format("],\"time_lost\":{},\"started_ms\":{}}}\n\n", number(time_lost_s_), started_ms_);
     page.every_body = false;

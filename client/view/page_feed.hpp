@@ -29,7 +29,7 @@ public:
     /// world is known (set_world) and its first frame has come.
     explicit PageFeed(std::optional<Region> region);
 
-    /// The world's settings, once a cluster is found (again: a new cluster on the domain may differ).
+    /// The world's settings, once a cluster is found.
     void set_world(const WorldSettings& settings);
 
     /// Takes a frame of changes (FrameContent::changes) from the client.

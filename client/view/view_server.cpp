@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -53,18 +54,30 @@ Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions&
             }
             res.set_content(text, "text/javascript");
         });
-    }
+    }  // A thread per open page and a few for the files; idle keep-alive connections let go after a second.
+    const std::size_t threads = options.max_pages + 4;
+    http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    http.set_keep_alive_timeout(1);
     ViewServer* self = server.get();
     http.Get("/events", [self](const httplib::Request& req, httplib::Response& res) {
         // A page may ask for fewer frames a second than --max-rate (?rate=N), never for more.
         double rate = self->options_.max_rate_hz;
         if (req.has_param("rate")) {
             const double asked = std::strtod(req.get_param_value("rate").c_str(), nullptr);
-            if (asked > 0.0 && asked < rate) rate = asked;
+            if (asked > 0.0 && asked < rate) rate = std::max(asked, 0.1);
         }
         std::uint64_t page = 0;
         {
             std::lock_guard<std::mutex> lock(self->mutex_);
+            // Each open page holds one of the server's threads: beyond --max-pages a page is told so at once
+            // instead of waiting for a thread that never comes free.
+            if (self->pace_.size() >= self->options_.max_pages) {
+                res.status = 503;
+                res.set_content("lpss-view serves " + std::to_string(self->options_.max_pages) +
+                                    " pages at most (--max-pages); close one",
+                                "text/plain");
+                return;
+            }
             page = self->feed_.subscribe();
             self->pace_[page] = Pace{std::chrono::steady_clock::now(),
                                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -96,11 +109,18 @@ Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions&
         server->port_ = options.port;
     }
     server->serving_ = std::thread([self] { self->http_->listen_after_bind(); });
+    // stop() does nothing before the server runs: a server destroyed at once would otherwise never end.
+    for (int n = 0; n < 2000 && !http.is_running(); ++n)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
     return server;
 }
 
 ViewServer::~ViewServer() {
-    stopping_ = true;
+    {
+        // Under the lock: a page thread between its check and its wait would miss the wake-up.
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
     news_.notify_all();
     http_->stop();
     if (serving_.joinable()) serving_.join();
@@ -140,8 +160,7 @@ std::string ViewServer::next_events(std::uint64_t page) {
         if (now >= give_up) return {};
         news_.wait_until(lock, until);
     }
-    next = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                  std::chrono::duration<double>(1.0 / options_.max_rate_hz));
+    next = std::chrono::steady_clock::now() + pace.interval;
     return feed_.events_for(page);
 }
 

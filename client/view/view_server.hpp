@@ -26,6 +26,7 @@ struct ViewServerOptions {
     std::string listen = "127.0.0.1";  ///< the address to serve on: this machine only unless told
     int port = 8090;                   ///< 0: any free port (see ViewServer::port)
     double max_rate_hz = 30.0;         ///< frames sent to a page per second at most
+    std::size_t max_pages = 8;         ///< pages open at once; more are answered 503
     std::string three_dir = "/usr/share/javascript/three";  ///< Debian's libjs-three
 };
 

@@ -113,8 +113,13 @@ TEST(DisGateway, ABodyThatLeavesIsDeactivatedAndItsNumberFreed) {
     EXPECT_NE(pdus[0].appearance & kAppearanceDeactivated, 0u);
     EXPECT_FALSE(g.entity_of(5));
     EXPECT_EQ(g.counts().deactivations, 1u);
-    // And nothing more of it afterwards, heartbeat or not.
-    for (std::uint64_t n = 3; n < 700; ++n)
+    // Its number is free again: a big id arriving later may take it, and then body 5, back, gets another.
+    g.take(frame(3, {body(70000, Eigen::Vector3d(6.4e6, 0, 0))}), boxes());
+    g.take(frame(4, {body(5, Eigen::Vector3d(6.4e6, 0, 1))}), boxes());
+    ASSERT_TRUE(g.entity_of(70000) && g.entity_of(5));
+    EXPECT_NE(*g.entity_of(70000), *g.entity_of(5));
+    // And nothing more of the entity that left: after the newcomers' first PDUs, only their heartbeats.
+    for (std::uint64_t n = 5; n < 300; ++n)
         EXPECT_TRUE(g.take(frame(n, {}), boxes()).empty()) << n;
 }
 
@@ -132,6 +137,64 @@ TEST(DisGateway, IdsThatDoNotFitSixteenBitsGetNumbersNoOtherBodyHolds) {
     EXPECT_NE(*big, 2);
     EXPECT_NE(*big, *bigger);
     EXPECT_NE(*big, 0);
+}
+
+TEST(DisGateway, ABigIdFirstDoesNotTakeTheNumberOfASmallIdForGood) {
+    auto made = DisGateway::create(ecef_world(), {});
+    ASSERT_TRUE(made);
+    DisGateway& g = made.value();
+    const Eigen::Vector3d at(6.4e6, 0, 0);
+    g.take(frame(1, {body(1ull << 40, at)}, true), boxes());
+    g.take(frame(2, {body(1, at)}), boxes());
+    ASSERT_TRUE(g.entity_of(1ull << 40) && g.entity_of(1));
+    EXPECT_NE(*g.entity_of(1ull << 40), *g.entity_of(1)) << "two entities with one number";
+}
+
+TEST(DisGateway, AngularVelocityGoesInBodyAxes) {
+    auto made = DisGateway::create(ecef_world(), {});
+    ASSERT_TRUE(made);
+    BodyView b = body(3, Eigen::Vector3d(6.4e6, 0, 0));
+    b.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+    b.angular_velocity = Eigen::Vector3d(1, 0, 0);  // world axes: about x, which is the body's -y
+    const auto pdus = made.value().take(frame(1, {b}, true), boxes());
+    ASSERT_EQ(pdus.size(), 1u);
+    EXPECT_LT((pdus[0].dead_reckoning.angular_velocity - Eigen::Vector3f(0, -1, 0)).norm(), 1e-6)
+        << pdus[0].dead_reckoning.angular_velocity.transpose();
+}
+
+TEST(DisGateway, StoppingDeactivatesEveryEntity) {
+    auto made = DisGateway::create(ecef_world(), {});
+    ASSERT_TRUE(made);
+    DisGateway& g = made.value();
+    const WorldFrame first =
+        frame(1, {body(1, Eigen::Vector3d(6.4e6, 0, 0)), body(2, Eigen::Vector3d(6.4e6, 0, 3))}, true);
+    g.take(first, boxes());
+    const auto last = g.deactivate_all(first);
+    ASSERT_EQ(last.size(), 2u);
+    for (const EntityStatePdu& p : last)
+        EXPECT_EQ(p.appearance & kAppearanceDeactivated, kAppearanceDeactivated);
+    EXPECT_FALSE(g.entity_of(1));
+    EXPECT_TRUE(g.take(frame(2, {}), boxes()).empty());
+}
+
+TEST(DisGateway, AfterAPauseOnTheWallClockMovingEntitiesAreCorrected) {
+    GatewayOptions options;
+    options.thresholds.heartbeat_s = 1000.0;
+    auto made = DisGateway::create(ecef_world(), options);
+    ASSERT_TRUE(made);
+    DisGateway& g = made.value();
+    const Eigen::Vector3d v(10, 0, 0);
+    Eigen::Vector3d at(6.4e6, 0, 0);
+    WorldFrame f = frame(1, {body(4, at, v)}, true);
+    ASSERT_EQ(g.take(f, boxes()).size(), 1u);
+    at += v / 60.0;
+    f = frame(2, {body(4, at, v)}, false);
+    EXPECT_TRUE(g.take(f, boxes()).empty()) << "on course";
+    // The cluster paused 0.5 s: receivers moved it 5 m on; the world did not.
+    at += v / 60.0;
+    f = frame(3, {body(4, at, v)}, false);
+    f.time_lost_s = 0.5;
+    EXPECT_EQ(g.take(f, boxes()).size(), 1u) << "receivers are 5 m ahead after the pause";
 }
 
 TEST(DisGateway, PlanesAreNotEntities) {
@@ -176,3 +239,24 @@ TEST(DisGateway, ALocalTangentWorldIsSentInEcefWithItsOriginAtTheReferencePoint)
 
 }  // namespace
 }  // namespace lpss::dis
+
+namespace lpss {
+namespace {
+
+// The --region option of every client program.
+TEST(ParseRegion, TakesSixIndicesAndRefusesAnythingElseQuotingIt) {
+    const auto r = parse_region("-1,2,3,4,-5,-5");
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_EQ(r->lo, (SectorKey{-1, 3, -5}));
+    EXPECT_EQ(r->hi, (SectorKey{2, 4, -5}));
+    for (const std::string bad :
+         {"0,1,0,1,0", "0,1,0,1,0,1,9", "0,1,0,1,0,1x", "a,b,c,d,e,f", "1,0,0,1,0,1"}) {
+        const auto refused = parse_region(bad);
+        ASSERT_FALSE(refused) << bad;
+        EXPECT_NE(refused.error().message.find("'" + bad + "'"), std::string::npos)
+            << refused.error().message;
+    }
+}
+
+}  // namespace
+}  // namespace lpss

@@ -392,6 +392,7 @@ TEST(EntityStatePdu, MarkingKeepsElevenAsciiCharacters) {
     EXPECT_EQ(marking.character_set, 1);
     EXPECT_EQ(marking_text(marking), "body 123456");
     EXPECT_EQ(marking_text(ascii_marking("")), "");
+    EXPECT_EQ(marking_text(ascii_marking("caf\xc3\xa9\n")), "caf???") << "not ASCII: '?'";
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -1,6 +1,8 @@
 // What lpss-view sends each page: every body first, then only what changed, however many frames passed.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "page_feed.hpp"
 
 namespace lpss::view {
@@ -55,7 +57,7 @@ TEST(PageFeed, APageWaitsForTheWorldThenGetsEveryBodyThenOnlyWhatChanged) {
     const std::string first = feed.events_for(page);
     EXPECT_NE(first.find("event: world\ndata: {\"sector_size\":64,"), std::string::npos) << first;
     EXPECT_NE(first.find("\"name\":\"s\\\"1\""), std::string::npos) << first;
-    EXPECT_NE(first.find("[1,1000000000000.375,"), std::string::npos)
+    EXPECT_NE(first.find("[\"1\",1000000000000.375,"), std::string::npos)
         << "17 digits keep 1e12's fractions: " << first;
     EXPECT_NE(first.find("\"every_body\":true"), std::string::npos);
     EXPECT_FALSE(feed.has_news(page));
@@ -69,19 +71,20 @@ TEST(PageFeed, APageWaitsForTheWorldThenGetsEveryBodyThenOnlyWhatChanged) {
     const std::string later = feed.events_for(page);
     EXPECT_EQ(count(later, "event: frame"), 1u) << later;
     EXPECT_EQ(count(later, "event: world"), 0u);
-    EXPECT_NE(later.find("\"frame\":4,\"every_body\":false,\"bodies\":[[2,6,"), std::string::npos) << later;
-    EXPECT_NE(later.find("[3,7,"), std::string::npos) << later;
-    EXPECT_EQ(later.find("[1,"), std::string::npos) << "body 1 left: " << later;
-    EXPECT_NE(later.find("\"departed\":[1]"), std::string::npos) << later;
-    EXPECT_EQ(count(later, "\"id\":3,"), 1u) << later;
-    EXPECT_EQ(count(later, "\"id\":2,"), 0u) << "a kind is sent once: " << later;
+    EXPECT_NE(later.find("\"frame\":4,\"every_body\":false,\"bodies\":[[\"2\",6,"), std::string::npos)
+        << later;
+    EXPECT_NE(later.find("[\"3\",7,"), std::string::npos) << later;
+    EXPECT_EQ(later.find("[\"1\","), std::string::npos) << "body 1 left: " << later;
+    EXPECT_NE(later.find("\"departed\":[\"1\"]"), std::string::npos) << later;
+    EXPECT_EQ(count(later, "\"id\":\"3\","), 1u) << later;
+    EXPECT_EQ(count(later, "\"id\":\"2\","), 0u) << "a kind is sent once: " << later;
 
     // A page that connects now gets the world as it is: bodies 2 and 3, every one.
     const std::uint64_t second = feed.subscribe();
     const std::string whole = feed.events_for(second);
-    EXPECT_NE(whole.find("\"every_body\":true,\"bodies\":[[2,6,"), std::string::npos) << whole;
-    EXPECT_NE(whole.find("[3,7,"), std::string::npos) << whole;
-    EXPECT_EQ(whole.find("[1,"), std::string::npos) << whole;
+    EXPECT_NE(whole.find("\"every_body\":true,\"bodies\":[[\"2\",6,"), std::string::npos) << whole;
+    EXPECT_NE(whole.find("[\"3\",7,"), std::string::npos) << whole;
+    EXPECT_EQ(whole.find("[\"1\","), std::string::npos) << whole;
 }
 
 TEST(PageFeed, ABodyWhoseSphereCrossesASectorBorderIsMarkedOnTheBorder) {
@@ -94,6 +97,20 @@ TEST(PageFeed, ABodyWhoseSphereCrossesASectorBorderIsMarkedOnTheBorder) {
     const std::string text = feed.events_for(page);
     EXPECT_NE(text.find(",1,1,1]"), std::string::npos) << "body 1: worker 1, awake, on a border: " << text;
     EXPECT_NE(text.find(",1,1,0]"), std::string::npos) << "body 2: not on a border: " << text;
+}
+
+TEST(PageFeed, IdsPastTwoToTheFiftyThreeAndNumbersThatAreNotFiniteStayValidJson) {
+    PageFeed feed(std::nullopt);
+    const std::uint64_t page = feed.subscribe();
+    feed.set_world(WorldSettings{});
+    WorldFrame f = frame(1, {body((1ull << 60) + 1, 2.0)}, true);
+    f.workers.push_back(WorkerView{1, 1, 1, 1, 0, 0, std::nanf("")});
+    feed.take(f, kSpheres);
+    const std::string text = feed.events_for(page);
+    EXPECT_NE(text.find("[\"1152921504606846977\","), std::string::npos) << text;
+    EXPECT_NE(text.find("\"id\":\"1152921504606846977\""), std::string::npos) << text;
+    EXPECT_NE(text.find("\"step_ms\":null"), std::string::npos) << text;
+    EXPECT_EQ(text.find("nan"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -332,11 +332,20 @@
     return rec;
   }
 
-  function removeBody(id) {
+  // forget: the body left the world, so its kind (and that kind's geometry, made for it alone) goes too; a
+  // world that keeps spawning and removing bodies does not grow the page.
+  function removeBody(id, forget) {
     const rec = bodies.get(id);
-    if (!rec) return;
-    bodyGroup.remove(rec.mesh);
-    bodies.delete(id);
+    if (rec) {
+      bodyGroup.remove(rec.mesh);
+      bodies.delete(id);
+    }
+    if (!forget) return;
+    const kind = kinds.get(id);
+    if (kind && kind.geometry) kind.geometry.dispose();
+    kinds.delete(id);
+    kindText.delete(id);
+    missingKinds.delete(id);
   }
 
   function setOutline(rec) {
@@ -387,7 +396,7 @@
 
   function onKinds(m) {
     for (const k of (m && Array.isArray(m.bodies) ? m.bodies : [])) {
-      if (typeof k.id !== 'number') { report('kinds', 'kind without numeric id'); continue; }
+      if (typeof k.id !== 'string') { report('kinds', 'kind without an id'); continue; }
       // The same description again (a reconnection): keep the kind and its geometry.
       const text = JSON.stringify(k);
       if (kindText.get(k.id) === text) continue;
@@ -410,10 +419,10 @@
     if (m.every_body) {
       const seen = new Set();
       for (const row of rows) { applyRow(row); if (Array.isArray(row)) seen.add(row[0]); }
-      for (const id of Array.from(bodies.keys())) if (!seen.has(id)) removeBody(id);
+      for (const id of Array.from(bodies.keys())) if (!seen.has(id)) removeBody(id, true);
     } else {
       for (const row of rows) applyRow(row);
-      for (const id of (Array.isArray(m.departed) ? m.departed : [])) removeBody(id);
+      for (const id of (Array.isArray(m.departed) ? m.departed : [])) removeBody(id, true);
     }
     for (const h of (Array.isArray(m.handoffs) ? m.handoffs : [])) onHandoff(h);
     if (Array.isArray(m.workers)) workerStats = m.workers;
@@ -445,6 +454,21 @@
   }
   const ringGeometry = new THREE.RingBufferGeometry(0.85, 1.0, 48);
 
+  // Body ids are 64-bit: the server sends them as strings (a JSON number loses digits past 2^53), and the
+  // page keys everything by the string. Numbers (from an older or a test server) are turned into strings.
+  function stringIds(name, m) {
+    if (!m) return m;
+    if (name === 'kinds' && Array.isArray(m.bodies)) {
+      for (const k of m.bodies) if (k && (typeof k.id === 'number' || typeof k.id === 'string')) k.id = String(k.id);
+    }
+    if (name === 'frame') {
+      for (const row of (Array.isArray(m.bodies) ? m.bodies : [])) if (Array.isArray(row)) row[0] = String(row[0]);
+      if (Array.isArray(m.departed)) m.departed = m.departed.map(String);
+      for (const h of (Array.isArray(m.handoffs) ? m.handoffs : [])) if (Array.isArray(h)) h[0] = String(h[0]);
+    }
+    return m;
+  }
+
   function connect() {
     if (typeof EventSource !== 'function') { report('events', 'EventSource is not supported'); return; }
     // ?rate=N asks the server for at most N frames a second (it sends at most its --max-rate anyway): a
@@ -455,8 +479,15 @@
     stream = es;
     const on = (name, fn) => es.addEventListener(name, (e) => {
       let m;
-      try { m = JSON.parse(e.data); } catch (err) { report(name, 'bad JSON: ' + err.message); return; }
-      try { fn(m); } catch (err) { report(name, err); }
+      try { m = JSON.parse(e.data); } catch (err) {
+        // Frames are deltas: one lost event would leave the page wrong until the next full frame. Start
+        // the stream again, which begins with every body.
+        report(name, 'bad JSON: ' + err.message + '; reconnecting');
+        es.close();
+        if (stream === es) { stream = null; connected = false; setTimeout(connect, 500); }
+        return;
+      }
+      try { fn(stringIds(name, m)); } catch (err) { report(name, err); }
     });
     es.onopen = () => { connected = true; };
     // EventSource reconnects by itself; the server starts each connection with world, kinds and
@@ -498,10 +529,9 @@
   }
 
   function findBody(idOrName) {
-    if (typeof idOrName === 'number') return bodies.get(idOrName) || null;
     const s = String(idOrName === undefined || idOrName === null ? '' : idOrName).trim();
     if (!s) return null;
-    if (/^-?\d+$/.test(s)) { const r = bodies.get(Number(s)); if (r) return r; }
+    if (/^\d+$/.test(s)) { const r = bodies.get(s); if (r) return r; }
     for (const rec of bodies.values()) if (rec.kind.name === s) return rec;
     return null;
   }
