@@ -66,8 +66,7 @@ TEST(View, ChromiumDrawsEveryBodyAndOneTenToTheTwelveOutWhereItIs) {
     std::filesystem::create_directories(dir);
     const std::string scene = dir + "/view.textproto";
     std::ofstream(scene) << kScene;
-    // Block size 1: sectors alternate between the two workers, so both own bodies and the runner is handed
-    // from one to the other as it crosses x = -32.
+    // Block size 1: sectors alternate between the two workers, so both own bodies.
     auto cluster = start_cluster(scene, kDomain, 2, 60 * 90, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
     const std::string view_log = dir + "/lpss-view.log";
