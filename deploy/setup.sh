@@ -35,10 +35,14 @@ if ! command -v npm >/dev/null 2>&1; then
 fi
 # Test tools, pinned by tests/node/package-lock.json; installed again only when the lockfile changes.
 node_dir="$root/tests/node"
+# Without them lpss builds and runs; the tests that need them say they are skipped and why.
 if [[ ! -f "$node_dir/node_modules/.package-lock.json" ||
     "$node_dir/package-lock.json" -nt "$node_dir/node_modules/.package-lock.json" ]]; then
     echo "lpss: installing the test tools of tests/node (npm ci)"
-    (cd "$node_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+    mkdir -p "$build"
+    if ! (cd "$node_dir" && npm ci --no-audit --no-fund --loglevel=error >"$build/npm-ci.log" 2>&1); then
+        echo "lpss: could not install the test tools of tests/node from the npm registry ($(grep -m1 -o 'reason: .*' "$build/npm-ci.log" || tail -n 1 "$build/npm-ci.log")); the tests that need them (open-dis, puppeteer-core) will be reported as skipped. Log: $build/npm-ci.log" >&2
+    fi
 fi
 
 jobs="$(nproc 2>/dev/null || echo 2)"

@@ -14,12 +14,15 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -122,6 +125,20 @@ private:
     std::atomic<int> matched_{0};
 };
 
+/// An endpoint's GUID as 16 bytes (participant prefix, entity id): how lpss names a reader on the wire.
+using GuidBytes = std::array<std::uint8_t, 16>;
+inline GuidBytes guid_bytes(const eprosima::fastrtps::rtps::GUID_t& guid) {
+    GuidBytes out{};
+    std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), out.begin());
+    std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value), out.begin() + 12);
+    return out;
+}
+inline GuidBytes guid_bytes(const fdds::InstanceHandle_t& handle) {
+    eprosima::fastrtps::rtps::GUID_t guid;
+    eprosima::fastrtps::rtps::iHandle2GUID(guid, handle);
+    return guid_bytes(guid);
+}
+
 /// A typed data writer; counts the readers it has matched.
 template <class T>
 class Writer : public fdds::DataWriterListener {
@@ -145,7 +162,20 @@ public:
     int matched() const { return matched_.load(); }
     /// Readers matched since the last call (a late joiner to serve).
     int take_new_matches() { return new_matches_.exchange(0); }
+    /// Whether this writer has matched the reader with this GUID (see guid_bytes): what it writes now
+    /// reaches that reader. A reader matching a writer says nothing of the writer's side, which discovery
+    /// can complete seconds later.
+    bool reaches(const GuidBytes& reader) const {
+        std::lock_guard<std::mutex> lock(readers_mutex_);
+        return matched_readers_.count(reader) > 0;
+    }
     void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& status) override {
+        {
+            std::lock_guard<std::mutex> lock(readers_mutex_);
+            const GuidBytes reader = guid_bytes(status.last_subscription_handle);
+            if (status.current_count_change > 0) matched_readers_.insert(reader);
+            if (status.current_count_change < 0) matched_readers_.erase(reader);
+        }
         matched_.store(status.current_count);
         if (status.current_count_change > 0) new_matches_.fetch_add(status.current_count_change);
     }
@@ -157,6 +187,8 @@ private:
     // writer that never counted the coordinator's reader).
     std::atomic<int> matched_{0};
     std::atomic<int> new_matches_{0};
+    mutable std::mutex readers_mutex_;
+    std::set<GuidBytes> matched_readers_;
     Participant& participant_;
     fdds::DataWriter* writer_;
 };
@@ -194,6 +226,8 @@ public:
         }
         return count;
     }
+    /// This reader's GUID, as writers' reaches() take it.
+    GuidBytes guid() const { return guid_bytes(reader_->guid()); }
     /// Writers matched now.
     int matched() const {
         fdds::SubscriptionMatchedStatus status;

@@ -114,6 +114,14 @@ struct Coordinator::State {
     /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
     /// join; then, once given sectors, the frame from which they are live.
     std::set<std::uint32_t> joining;
+    /// Each joiner's reader of sector frames; and, from each worker's latest mark, the joiners whose reader
+    /// its sector writer has matched. A joiner is admitted once every worker and this coordinator reach it:
+    /// what is written before a writer matches a reader never reaches it.
+    std::map<std::uint32_t, dds::GuidBytes> joiner_readers;
+    std::map<std::uint32_t, std::set<std::uint32_t>> reaching;
+    std::map<std::uint32_t, Clock::time_point> joining_since;
+    /// The workers that do not reach this joiner yet (0 stands for the coordinator); empty once all do.
+    std::vector<std::uint32_t> not_reaching(std::uint32_t joiner) const;
     std::map<std::uint32_t, std::uint64_t> admitted;
     /// The workers sectors can go to: the live ones and those admitted.
     std::set<std::uint32_t> members() const {
@@ -274,10 +282,17 @@ void Coordinator::State::pump() {
         if (!info.valid_data || m.worker() == 0) return;
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
+        reaching[m.worker()] = std::set<std::uint32_t>(m.reaching().begin(), m.reaching().end());
+        if (m.frame() == 0 && m.epoch() != 0 && m.sector_reader().size() == 16) {
+            dds::GuidBytes reader{};
+            std::copy(m.sector_reader().begin(), m.sector_reader().end(), reader.begin());
+            joiner_readers[m.worker()] = reader;
+        }
         // A frame-0 mark naming an epoch, once the world runs: a worker asking to join (see Worker::join).
         if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !live.count(m.worker()) &&
             !admitted.count(m.worker()) && joining.insert(m.worker()).second) {
             spdlog::info("coordinator: worker {} asks to join at frame {}", m.worker(), frame);
+            joining_since[m.worker()] = Clock::now();
         }
         if (m.loads_reported()) {
             for (auto it = block_loads.begin(); it != block_loads.end();)
@@ -752,15 +767,46 @@ void Coordinator::State::collect_handoffs(std::uint64_t f) {
         it = it->first.second < f ? marks.erase(it) : std::next(it);
 }
 
+std::vector<std::uint32_t> Coordinator::State::not_reaching(std::uint32_t joiner) const {
+    std::vector<std::uint32_t> out;
+    auto reader = joiner_readers.find(joiner);
+    if (reader == joiner_readers.end()) return out;  // a worker that names no reader: nothing to wait for
+    if (!sectors_out->reaches(reader->second)) out.push_back(0);
+    for (std::uint32_t w : members()) {
+        auto r = reaching.find(w);
+        if (w != joiner && (r == reaching.end() || !r->second.count(joiner))) out.push_back(w);
+    }
+    return out;
+}
+
 void Coordinator::State::admit(std::uint64_t f) {
     std::set<std::uint32_t> workers = members();
     std::string names;
-    for (std::uint32_t w : joining) {
+    for (auto it = joining.begin(); it != joining.end();) {
+        const std::uint32_t w = *it;
+        if (const std::vector<std::uint32_t> missing = not_reaching(w); !missing.empty()) {
+            // Said once after a second: discovery that completes on one side only is what this waits out.
+            auto since = joining_since.find(w);
+            if (since != joining_since.end() && Clock::now() - since->second > std::chrono::seconds(1)) {
+                std::string who;
+                for (std::uint32_t m : missing)
+                    who += (who.empty() ? "" : ", ") +
+                           (m == 0 ? std::string("the coordinator") : std::to_string(m));
+                spdlog::warn(
+                    "coordinator: worker {} waits to join: not reached yet by the sector writer of {}", w,
+                    who);
+                joining_since.erase(since);
+            }
+            ++it;
+            continue;
+        }
         workers.insert(w);
         admitted[w] = f + 2;
         names += (names.empty() ? "" : ", ") + std::to_string(w);
+        joining_since.erase(w);
+        it = joining.erase(it);
     }
-    joining.clear();
+    if (names.empty()) return;
     reassign(balanced(workers), f + 2, ("worker(s) " + names + " joined").c_str());
 }
 

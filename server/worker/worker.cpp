@@ -123,6 +123,13 @@ struct Worker::State {
     dds::RefusedSamples refused_samples{"worker " + std::to_string(options.id)};
     std::set<std::uint32_t>
         heard;  ///< workers whose marks reached it: their writers have matched its readers
+    /// Each other worker's reader of sector frames, as its marks name it. A joiner asks only once its own
+    /// sector writer reaches all of them; this worker's marks say which its writer reaches, and the
+    /// coordinator admits a joiner only once every worker's does (a sample written before the writer matched
+    /// the reader never reaches it: seen, a joiner that started without its sectors and degraded).
+    std::map<std::uint32_t, dds::GuidBytes> sector_readers;
+    /// A mark of this worker for `frame`, naming its sector reader and the workers' its writer reaches.
+    wire::WorkerFrame mark_of(std::uint64_t frame) const;
     Clock::time_point join_noted = Clock::now();  ///< when it last said why it waits to join
     void apply_samples(std::uint64_t up_to, const std::vector<std::pair<std::uint64_t, BodyDesc>>& also = {});
     void apply_go(const wire::FrameGo& go);
@@ -214,6 +221,11 @@ void Worker::State::pump() {
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
+        if (m.sector_reader().size() == 16 && m.worker() != options.id && m.worker() != 0) {
+            dds::GuidBytes reader{};
+            std::copy(m.sector_reader().begin(), m.sector_reader().end(), reader.begin());
+            sector_readers[m.worker()] = reader;
+        }
         gate.take_mark(m);
         if (!world && m.frame() > 0) heard.insert(m.worker());
     });
@@ -334,6 +346,18 @@ bool Worker::State::create_world(const wire::Assignment& announced) {
     return true;
 }
 
+wire::WorkerFrame Worker::State::mark_of(std::uint64_t f) const {
+    wire::WorkerFrame m;
+    m.worker(options.id);
+    m.frame(f);
+    const dds::GuidBytes reader = frames_in->guid();
+    m.sector_reader(std::vector<std::uint8_t>(reader.begin(), reader.end()));
+    for (const auto& [w, reader] : sector_readers) {
+        if (frames_out->reaches(reader)) m.reaching().push_back(w);
+    }
+    return m;
+}
+
 std::vector<std::pair<std::uint64_t, BodyDesc>> Worker::State::take_early_planes() {
     std::vector<std::pair<std::uint64_t, BodyDesc>> ranked;
     for (auto& [id, plane] : early_planes) {
@@ -356,8 +380,11 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
         const int peers = static_cast<int>(announced.workers.size()) + 1;
         bool reachable = frames_in->matched() >= peers && marks_in->matched() >= peers &&
                          frames_out->matched() >= peers && marks_out->matched() >= peers;
-        for (std::uint32_t w : announced.workers)
-            reachable = reachable && (w == options.id || heard.count(w));
+        for (std::uint32_t w : announced.workers) {
+            auto reader = sector_readers.find(w);
+            reachable = reachable && (w == options.id || (heard.count(w) && reader != sector_readers.end() &&
+                                                          frames_out->reaches(reader->second)));
+        }
         if (!reachable) {
             if (Clock::now() - join_noted > std::chrono::seconds(5)) {
                 join_noted = Clock::now();
@@ -384,9 +411,7 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
         samples.clear();
         chain = dds::SectorChain();
         wanted_whole = dds::WholeSectorAsks();
-        wire::WorkerFrame ask;
-        ask.worker(options.id);
-        ask.frame(0);
+        wire::WorkerFrame ask = mark_of(0);
         ask.epoch(announced.epoch);
         marks_out->write(ask);
         return Joining::waiting;
@@ -570,9 +595,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
 void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms,
                          double publish_ms) {
     World& w = *world;
-    wire::WorkerFrame m;
-    m.worker(options.id);
-    m.frame(frame);
+    wire::WorkerFrame m = mark_of(frame);
     m.epoch(halo.current().epoch);
     m.written(std::move(written));
     // Inventories: what a reader that starts needs to know which sectors exist and how recent each is.
@@ -646,10 +669,7 @@ int Worker::run(const std::atomic<bool>& stop) {
     State& s = *state_;
     const std::uint32_t id = s.options.id;
     // Hello: frame 0 tells the coordinator this worker is up.
-    wire::WorkerFrame hello;
-    hello.worker(id);
-    hello.frame(0);
-    s.marks_out->write(hello);
+    s.marks_out->write(s.mark_of(0));
     spdlog::info("worker {}: up on domain {}, waiting for the coordinator", id, s.participant->domain());
 
     const auto started = Clock::now();

@@ -16,6 +16,7 @@
 #include "dis/entity_state_pdu.hpp"
 #include "dis/geodesy.hpp"
 #include "lpss/common/scene.hpp"
+#include "node_tools.hpp"
 
 namespace lpss {
 namespace {
@@ -63,6 +64,8 @@ struct Received {
 };
 
 TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
+    if (const std::string missing = testing::node_tool_missing("open-dis"); !missing.empty())
+        GTEST_SKIP() << missing;
     constexpr int kDomain = 146;
     constexpr int kFrames = 720;  // 12 s at 60 Hz: two heartbeats of a body at rest, and the convoys meet
     const testing::DomainCleanup cleanup(kDomain);

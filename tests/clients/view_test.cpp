@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "cluster_harness.hpp"
+#include "node_tools.hpp"
 
 namespace lpss {
 namespace {
@@ -59,6 +60,8 @@ bodies { id: 101 name: "far-ball" shape { sphere { radius: 0.5 } } mass: 1 posit
 )";
 
 TEST(View, ChromiumDrawsEveryBodyAndOneTenToTheTwelveOutWhereItIs) {
+    if (const std::string missing = testing::node_tool_missing("puppeteer-core"); !missing.empty())
+        GTEST_SKIP() << missing;
     constexpr int kDomain = 147;
     const testing::DomainCleanup cleanup(kDomain);
     const std::string dir =
