@@ -19,6 +19,7 @@
 #include "child_process.hpp"
 #include "lpss/client/client.hpp"
 #include "lpss/common/scene.hpp"
+#include "lpss/common/state_csv.hpp"
 #include "lpss_dds/shm_cleanup.hpp"
 
 namespace lpss::testing {
@@ -129,21 +130,11 @@ inline std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::stri
                                 " --csv " + csv + " 2>/dev/null";
     EXPECT_EQ(std::system(command.c_str()), 0);
     std::map<std::uint64_t, std::map<BodyId, SimRow>> out;
-    std::ifstream in(csv);
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-        std::istringstream row(line);
-        std::vector<std::string> f;
-        for (std::string cell; std::getline(row, cell, ',');)
-            f.push_back(cell);
-        SimRow r;
-        r.orientation =
-            Eigen::Quaterniond(std::stod(f[8]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7]));
-        r.position = SectorPosition{{std::stoll(f[12]), std::stoll(f[13]), std::stoll(f[14])},
-                                    {std::stod(f[15]), std::stod(f[16]), std::stod(f[17])}};
-        out[std::stoull(f[0])][std::stoull(f[1])] = r;
-    }
+    const Expected<std::vector<StateCsvRow>> rows = read_state_csv(csv);
+    EXPECT_TRUE(rows) << rows.error().message;
+    if (!rows) return out;
+    for (const StateCsvRow& r : rows.value())
+        out[r.frame][r.body.id] = SimRow{r.body.position, r.body.orientation};
     return out;
 }
 

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include "lpss/common/scene.hpp"
+#include "lpss/common/state_csv.hpp"
 
 namespace {
 
@@ -110,17 +111,11 @@ std::map<std::uint64_t, std::vector<double>> heights_above_ground(const std::str
     const Eigen::Vector3d normal = std::get<lpss::Plane>(ground.shape).normal;
     const Eigen::Vector3d at = std::get<Eigen::Vector3d>(ground.position);
     std::map<std::uint64_t, std::vector<double>> out;
-    std::ifstream in(csv);
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-        std::istringstream row(line);
-        std::vector<std::string> f;
-        for (std::string cell; std::getline(row, cell, ',');)
-            f.push_back(cell);
-        const Eigen::Vector3d p(std::stod(f[2]), std::stod(f[3]), std::stod(f[4]));
-        out[std::stoull(f[1])].push_back(normal.dot(p - at));
-    }
+    const lpss::Expected<std::vector<lpss::StateCsvRow>> rows = lpss::read_state_csv(csv);
+    EXPECT_TRUE(rows) << rows.error().message;
+    if (!rows) return out;
+    for (const lpss::StateCsvRow& r : rows.value())
+        out[r.body.id].push_back(normal.dot(r.global - at));
     return out;
 }
 
