@@ -4,7 +4,8 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/.." && pwd)"
-build="${1:-$root/build}"
+# Absolute: the npm step below runs in another directory.
+build="$(realpath -m "${1:-$root/build}")"
 
 missing=()
 while read -r pkg; do
