@@ -94,6 +94,10 @@ struct Client::State {
     std::uint64_t ready_request = 0;  ///< the request saying so; 0: not said yet
     std::chrono::steady_clock::time_point ready_said;
     bool sync();
+    /// Drops the sync: the inventories are asked for again and frames follow from their answers.
+    void resync();
+    /// Whether a worker's mark of `frame` will never come: a later mark of that worker is here.
+    bool mark_lost(std::uint64_t frame) const;
     bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const;
     /// The stamps as of `frame`, from the current ones and the marks after `applied`; false if a mark is
     /// missing.
@@ -409,6 +413,24 @@ bool Client::State::sync() {
     return true;
 }
 
+void Client::State::resync() {
+    synced = false;
+    inventory_request = 0;
+    for (auto& [at, mark] : marks)
+        mark.inventory.reset();  // answers to the request before
+}
+
+bool Client::State::mark_lost(std::uint64_t frame) const {
+    const std::vector<std::uint32_t>* workers = workers_of(frame);
+    if (workers == nullptr) return false;
+    for (std::uint32_t w : *workers) {
+        if (marks.count({w, frame})) continue;
+        auto later = marks.lower_bound({w, frame});
+        if (later != marks.end() && later->first.first == w) return true;
+    }
+    return false;
+}
+
 bool Client::State::stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
     out = stamps;
     for (std::uint64_t f = applied + 1; f <= frame; ++f) {
@@ -570,16 +592,8 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
             // A worker whose end of f is missing while a later one is here: the marks of frames this client
             // did not read in time were replaced by newer ones (a client not polled for a while), and what
             // was written then is unknown. Ask for the inventories again and go on from their answers.
-            bool gap = false;
-            for (std::uint32_t w : *workers) {
-                auto later = s.marks.lower_bound({w, f});
-                gap = gap || (!s.marks.count({w, f}) && later != s.marks.end() && later->first.first == w);
-            }
-            if (gap) {
-                s.synced = false;
-                s.inventory_request = 0;
-                for (auto& [at, mark] : s.marks)
-                    mark.inventory.reset();  // answers to the request before
+            if (s.mark_lost(f)) {
+                s.resync();
                 break;
             }
             // A worker that never ends f (for this client) is gone if a later assignment leaves it out and
@@ -615,11 +629,18 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         // this client read them, or a sector of an inventory came whole only later), the first marked frame
         // after it that is: frames in between are skipped.
         std::map<SectorKey, std::uint64_t> at;
-        std::uint64_t show = 0;
-        for (std::uint64_t g = f; show == 0 && s.stamps_at(g, at); ++g) {
+        std::uint64_t show = 0, g = f;
+        for (; show == 0 && s.stamps_at(g, at); ++g) {
             if (s.complete(g, at)) show = g;
         }
-        if (show == 0) break;
+        if (show == 0) {
+            // Stopped at a frame whose marks are not all here. One that a later mark of its worker has
+            // overtaken is lost for good (a worker's marks come in order; its writer keeps eight, and a
+            // joiner flooded by the world's samples can fall that far behind): what was written then is
+            // unknown, and every later frame would wait on it. Start again from fresh inventories.
+            if (s.mark_lost(g)) s.resync();
+            break;
+        }
         s.stamps = std::move(at);
         s.apply_until(show);
         s.applied = show;

@@ -4,7 +4,8 @@
 // is (its kind) and its offset in double. The others hold the bodies that changed or arrived (with the
 // arrivals' kinds) and the ids of those that left, on the sector's previous sample; they are made from what
 // changed alone, so that a sector of resting bodies with one rolling ball costs one body. A sector that
-// empties is forgotten: if bodies come back, its next sample is complete again.
+// empties says so in a complete sample (empty), and is forgotten: if bodies come back, its next sample is
+// complete again.
 //
 // Each body also carries a 27-bit mask of the neighbouring sectors it comes near (bit 13 is the sector
 // itself), set by the caller; the publisher keeps, per sector, which neighbours some body comes near.

@@ -58,7 +58,10 @@ void SectorMirror::put(Bodies& bodies, const wire::BodyState& state, std::uint32
 
 void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, std::vector<BodyId>* left) {
     std::vector<BodyId> gone;
-    std::unordered_set<BodyId> arrived;
+    // Where the samples put each body last: one that left a sector is gone unless it is there at the end (it
+    // crossed into another sector of the batch); a body changed by one sample and taken out by a later one
+    // of the same sector is gone.
+    std::unordered_map<BodyId, SectorKey> arrived;
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = from_wire(sample->sector());
         Bodies& bodies = sectors_[key];
@@ -81,7 +84,7 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
                     if (old != bodies.end() && old->state.id() == b.id()) index = old->kind;
                 }
                 fresh.push_back(Body{b, index});
-                arrived.insert(b.id());
+                arrived[b.id()] = key;
             }
             std::sort(fresh.begin(), fresh.end(),
                       [](const Body& x, const Body& y) { return x.state.id() < y.state.id(); });
@@ -107,13 +110,19 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
                     if (at != bodies.end() && at->state.id() == b.id()) at->state = b;
                     // (a body changed that this mirror does not hold: its base was missed; not shown)
                 }
-                arrived.insert(b.id());
+                arrived[b.id()] = key;
             }
         }
         if (bodies.empty()) sectors_.erase(key);
     }
+    auto holds = [this](const SectorKey& sector, BodyId id) {
+        auto bodies = sectors_.find(sector);
+        if (bodies == sectors_.end()) return false;
+        auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
+        return at != bodies->second.end() && at->state.id() == id;
+    };
     for (BodyId id : gone) {
-        if (arrived.count(id)) continue;
+        if (auto at = arrived.find(id); at != arrived.end() && holds(at->second, id)) continue;
         names_.erase(id);
         if (left) left->push_back(id);
     }

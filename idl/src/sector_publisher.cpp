@@ -108,9 +108,16 @@ std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
         sector.bodies.erase(at);
     }
     if (sample.bodies().empty() && sample.departed().empty()) return std::nullopt;
+    if (sector.bodies.empty()) {
+        // Emptied: said in a complete sample. It stays the last sample of the sector in the writer's durable
+        // history, and a reader that joins later can use it alone; a partial one there would be of no use
+        // without its base, and the sector, forgotten here, is never sent whole again (seen: late joiners
+        // that waited for ever on a sector a body had left).
+        sectors_.erase(found);
+        return sample_of(key, frame, frame, true);
+    }
     sector.stamp = frame;
     sector.complete = false;
-    if (sector.bodies.empty()) sectors_.erase(found);
     return sample;
 }
 

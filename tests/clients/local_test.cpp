@@ -41,12 +41,13 @@ TEST(Clients, ViewAndDisSendNothingOffThisMachineByDefault) {
         if (url.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     ASSERT_FALSE(url.empty()) << read_file(view_log);
-    // A page's stream for 3 s, read the way a browser would (bash's /dev/tcp: no other tool needed).
+    // A page's stream until its first frame (at most 20 s: the cluster may still be starting), read the way
+    // a browser would (bash's /dev/tcp: no other tool needed).
     const std::string events = cluster.log_dir + "-events.txt";
-    const std::string get =
-        "bash -c 'exec 3<>/dev/tcp/127.0.0.1/" + url +
-        "; printf \"GET /events HTTP/1.1\\r\\nHost: x\\r\\n\\r\\n\" >&3; timeout 3 cat <&3 > " + events +
-        "' 2>/dev/null";
+    const std::string get = "bash -c 'exec 3<>/dev/tcp/127.0.0.1/" + url +
+                            "; printf \"GET /events HTTP/1.1\\r\\nHost: x\\r\\n\\r\\n\" >&3; timeout 20 sed "
+                            "\"/event: frame/q\" <&3 > " +
+                            events + "' 2>/dev/null";
     std::system(get.c_str());
     ASSERT_TRUE(dis->wait(std::chrono::seconds(60))) << read_file(dis_log);
     EXPECT_EQ(dis->exit_code().value_or(-1), 0) << read_file(dis_log);

@@ -3,6 +3,7 @@
 // bodies that arrive and are shared in the mirror; the neighbours bodies come near are counted per sector.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 
@@ -56,6 +57,40 @@ TEST(SectorPublisher, PartialSamplesCarryWhatChangedAndArrivalsTheirKinds) {
         << "nothing new: no sample";
     EXPECT_EQ(publisher.counts(kSector).bodies, 3u);
     EXPECT_EQ(publisher.stamp(kSector), 11u);
+}
+
+TEST(SectorPublisher, ASectorThatEmptiesSaysSoInASampleAReaderThatJoinsLaterCanUse) {
+    // A reader that joins after the sector emptied finds in the writer's durable history only the last
+    // samples of it: the one that empties it must be of use without the samples before.
+    SectorPublisher publisher;
+    publisher.whole(kSector, {body(1, 1), body(2, 2)}, {0, 0}, 10, kind_of_id);
+    auto moved = publisher.update(kSector, {body(1, 1.5)}, {0}, {2}, 11, kind_of_id);
+    ASSERT_TRUE(moved);
+    EXPECT_FALSE(moved->complete()) << "a body left, one stays: partial";
+    auto emptied = publisher.update(kSector, {}, {}, {1}, 12, kind_of_id);
+    ASSERT_TRUE(emptied);
+    EXPECT_TRUE(emptied->complete());
+    EXPECT_EQ(emptied->base(), 12u);
+    EXPECT_TRUE(emptied->bodies().empty());
+    EXPECT_FALSE(publisher.publishes(kSector)) << "forgotten once empty";
+
+    SectorChain late;
+    EXPECT_FALSE(late.accept(*moved)) << "the partial sample is of no use alone";
+    EXPECT_TRUE(late.accept(*emptied));
+    SectorMirror mirror;
+    mirror.apply({&*emptied}, nullptr);
+    EXPECT_EQ(mirror.sectors().count(kSector), 0u);
+
+    // A reader that held the sector sees both bodies leave.
+    SectorMirror follower;
+    const wire::SectorFrame first =
+        SectorPublisher{}.whole(kSector, {body(1, 1), body(2, 2)}, {0, 0}, 10, kind_of_id);
+    std::vector<BodyId> left;
+    follower.apply({&first}, &left);
+    follower.apply({&*moved, &*emptied}, &left);
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, (std::vector<BodyId>{1, 2}));
+    EXPECT_EQ(follower.sectors().count(kSector), 0u);
 }
 
 TEST(SectorPublisher, CountsTheNeighboursItsBodiesComeNear) {
