@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <unordered_set>
+#include <unordered_map>
 
 #include "lpss/common/border_reach.hpp"
 #include "lpss_dds/convert.hpp"
@@ -109,8 +109,9 @@ std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>
 
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                  const std::vector<std::pair<std::uint64_t, BodyDesc>>& also) {
-    // Bodies that left a sector held here (or all of a sector that releases this worker)...
-    std::vector<BodyId> left;
+    // Bodies that left a sector held here (or all of a sector that releases this worker), with the frame
+    // they left in...
+    std::unordered_map<BodyId, std::uint64_t> left;
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = dds::from_wire(sample->sector());
         const bool released = std::find(sample->released().begin(), sample->released().end(), self_) !=
@@ -129,14 +130,16 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                 std::sort(shown.begin(), shown.end());
             }
             for (const BodySnapshot& b : world.sector_bodies(key)) {
-                if (!std::binary_search(shown.begin(), shown.end(), b.id)) left.push_back(b.id);
+                if (!std::binary_search(shown.begin(), shown.end(), b.id)) left[b.id] = sample->frame();
             }
         }
-        left.insert(left.end(), sample->departed().begin(), sample->departed().end());
+        for (BodyId id : sample->departed())
+            left[id] = std::max(left[id], sample->frame());
     }
-    // ...unless they arrived in another sector of these samples.
-    std::unordered_set<BodyId> leaving(left.begin(), left.end());
-    std::unordered_set<BodyId> arrived;
+    // ...unless a sample of these shows them in a sector held here in that frame or later (they crossed
+    // into it). A body one sample moves and a later one takes out of the same sector is gone: these
+    // samples may span several frames (a worker that fell behind).
+    std::unordered_map<BodyId, std::uint64_t> seen;
 
     // States follow; bodies new here are built from their kinds, in the scene's order for the world's
     // first state (ranked), as lpss-sim adds them.
@@ -158,7 +161,7 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
         std::size_t next_kind = 0;
         for (std::uint32_t n = 0; n < sample->bodies().size(); ++n) {
             const BodyId id = sample->bodies()[n].id();
-            if (!leaving.empty() && leaving.count(id)) arrived.insert(id);
+            if (!left.empty() && left.count(id)) seen[id] = std::max(seen[id], sample->frame());
             if (world.contains(id)) {
                 if (!world.is_ghost(id)) continue;  // its own: never moved by others
                 BodySnapshot snapshot = dds::from_wire(sample->bodies()[n], key);
@@ -206,8 +209,10 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
         }
         if (body.mass > 0.0 && a.rank == ~std::uint64_t{0}) (void)world.set_state(state);
     }
-    for (BodyId id : left) {
-        if (!arrived.count(id) && world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
+    for (const auto& [id, frame] : left) {
+        auto shown = seen.find(id);
+        if (shown != seen.end() && shown->second >= frame) continue;
+        if (world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
     }
 }
 
