@@ -75,7 +75,8 @@ struct Client::State {
     dds::RefusedSamples refused_samples{"client"};
     std::uint64_t inventory_request = 0;  ///< 0: not asked yet
     std::chrono::steady_clock::time_point inventory_asked;
-    bool synced = false;                        ///< the inventories are in: frames follow from `applied`
+    bool synced = false;  ///< the inventories are in: frames follow from `applied`
+    std::chrono::steady_clock::time_point synced_at;
     std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
     std::set<SectorKey> unconfirmed;            ///< from inventories: not yet held at their stamp
     std::uint64_t applied = 0;
@@ -96,12 +97,16 @@ struct Client::State {
     bool sync();
     /// Drops the sync: the inventories are asked for again and frames follow from their answers.
     void resync();
+    /// Just synced: drops what is held or pending of sectors no inventory lists.
+    void forget_unlisted();
     /// Whether a worker's mark of `frame` will never come: a later mark of that worker is here.
     bool mark_lost(std::uint64_t frame) const;
     bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const;
-    /// The stamps as of `frame`, from the current ones and the marks after `applied`; false if a mark is
-    /// missing.
-    bool stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const;
+    /// Brings stamps as of frame - 1 to `frame`, from the marks of `frame`; false if a mark is missing.
+    bool stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& stamps) const;
+    /// Whether every sector of the inventories has come at its stamp or later, so that some frame can be
+    /// complete: without it, no frame is, and looking for one is wasted.
+    bool inventories_held() const;
     void apply_until(std::uint64_t frame);
     WorldFrame frame_view(std::uint64_t frame) const;
     WorldFrame changes_view(std::uint64_t frame);
@@ -172,7 +177,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(p, frames, reader_qos(kSectorFrameReading),
                                                                    &state->inbox);
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
-        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
+        p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kMarksReading), &state->inbox);
     state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
         p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
     state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
@@ -241,10 +246,8 @@ void Client::State::take() {
         mark.started_ns = m.started_ns();
         mark.time_lost = m.time_lost();
         for (const wire::SectorInventory& inventory : m.inventories()) {
-            // Answers to this client's request, or the inventories a worker gives when a reader joins.
-            const bool for_me =
-                inventory.reader() == options.name && inventory.request() == inventory_request;
-            if (!for_me && !(inventory.reader().empty() && !synced)) continue;
+            // Answers to this client's request.
+            if (inventory.reader() != options.name || inventory.request() != inventory_request) continue;
             mark.inventory.emplace();
             for (const wire::SectorStamp& st : inventory.sectors()) {
                 const SectorKey key = dds::from_wire(st.sector());
@@ -258,6 +261,9 @@ void Client::State::take() {
         // The coordinator's samples hold the world's first state, of sectors not written since (and the
         // state of a dead worker's sectors, for their next owner).
         if (!info.valid_data || chain.stale(f)) return;
+        // A sector no inventory and no mark names, at a frame already applied: it was empty then, and this
+        // is an older sample of it from a history that still holds one (see forget_unlisted).
+        if (synced && f.frame() <= applied && !stamps.count(dds::from_wire(f.sector()))) return;
         if (std::string why = dds::implausible(f, newest_mark, dds::kClientFramesAhead); !why.empty())
             return refused_samples.refuse(why);
         if (!chain.accept(f)) {
@@ -343,13 +349,25 @@ void Client::State::ask_for_inventory() {
     const SectorKey hi = options.region ? options.region->hi : SectorKey{INT64_MAX, INT64_MAX, INT64_MAX};
     request.lo(dds::to_wire(lo));
     request.hi(dds::to_wire(hi));
+    // The answer comes with the sectors whole, in the frame the workers' sector writers reach this reader.
+    const dds::GuidBytes reader = frames_in->guid();
+    request.frames_reader(std::vector<std::uint8_t>(reader.begin(), reader.end()));
     requests_out->write(request);
 }
 
 void Client::State::ask_for_whole_sectors() {
     // Without a request a refused sector would wait for the next complete sample, which may never come;
     // asking makes it the next frame. Asked again while refused, not more than every 100 ms (a request can
-    // be lost to discovery).
+    // be lost to discovery). Not before the inventories are in: a reader that joins gets the workers' last
+    // samples from DDS's history, most of them partial, and the answers bring its sectors whole anyway.
+    // Once synced, a sector of the inventories that has not come at its stamp within a second (its whole
+    // sample lost to a reader that fell behind) is asked for too.
+    if (!synced) return;
+    if (!unconfirmed.empty() && std::chrono::steady_clock::now() - synced_at > std::chrono::seconds(1)) {
+        for (const SectorKey& key : unconfirmed) {
+            if (!chain.holds(key, stamps.at(key), ~std::uint64_t{0})) wanted_whole.want(key);
+        }
+    }
     wire::SectorRequest request;
     request.sectors(wanted_whole.due(std::chrono::steady_clock::now()));
     if (request.sectors().empty()) return;
@@ -377,6 +395,8 @@ bool Client::State::sync() {
             }
             applied = 0;
             synced = true;
+            synced_at = std::chrono::steady_clock::now();
+            forget_unlisted();
             return true;
         }
     }
@@ -410,7 +430,31 @@ bool Client::State::sync() {
     }
     applied = start - 1;
     synced = true;
+    synced_at = std::chrono::steady_clock::now();
+    forget_unlisted();
     return true;
+}
+
+void Client::State::forget_unlisted() {
+    // The inventories list every sector that holds bodies (in the region followed): one they do not list,
+    // and no mark since names, is empty. Its samples may still come: a sector's samples are carried by a
+    // slot of their writer (SectorSlots), which carries another sector's once the sector empties, so the
+    // sample that emptied it can be gone from DDS's history while older ones of it (the coordinator's first
+    // state, a previous owner's last) are still there. Those, and whatever the mirror holds of such a sector
+    // from before a resync, are dropped.
+    for (auto it = pending.begin(); it != pending.end() && it->first <= applied; ++it) {
+        std::vector<wire::SectorFrame>& samples = it->second;
+        samples.erase(std::remove_if(samples.begin(), samples.end(),
+                                     [&](const wire::SectorFrame& f) {
+                                         return !stamps.count(dds::from_wire(f.sector()));
+                                     }),
+                      samples.end());
+    }
+    std::vector<SectorKey> empty;
+    for (const auto& [key, bodies] : mirror.sectors()) {
+        if (!stamps.count(key)) empty.push_back(key);
+    }
+    mirror.drop(empty, options.content == FrameContent::changes ? &left : nullptr);
 }
 
 void Client::State::resync() {
@@ -431,17 +475,21 @@ bool Client::State::mark_lost(std::uint64_t frame) const {
     return false;
 }
 
-bool Client::State::stamps_at(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
-    out = stamps;
-    for (std::uint64_t f = applied + 1; f <= frame; ++f) {
-        const std::vector<std::uint32_t>* workers = workers_of(f);
-        if (workers == nullptr) return false;
-        for (std::uint32_t w : *workers) {
-            auto it = marks.find({w, f});
-            if (it == marks.end()) return false;
-            for (const SectorKey& key : it->second.written)
-                out[key] = f;
-        }
+bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
+    const std::vector<std::uint32_t>* workers = workers_of(frame);
+    if (workers == nullptr) return false;
+    for (std::uint32_t w : *workers) {
+        auto it = marks.find({w, frame});
+        if (it == marks.end()) return false;
+        for (const SectorKey& key : it->second.written)
+            out[key] = frame;
+    }
+    return true;
+}
+
+bool Client::State::inventories_held() const {
+    for (const SectorKey& key : unconfirmed) {
+        if (!chain.holds(key, stamps.at(key), ~std::uint64_t{0})) return false;
     }
     return true;
 }
@@ -628,10 +676,17 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         // Frame f, or if it never will be complete (samples it needs were replaced by newer ones before
         // this client read them, or a sector of an inventory came whole only later), the first marked frame
         // after it that is: frames in between are skipped.
-        std::map<SectorKey, std::uint64_t> at;
+        // The stamps are brought forward frame by frame (a client behind by hundreds of frames looked for a
+        // complete one by working out each frame's stamps from the start, and never caught up).
+        std::map<SectorKey, std::uint64_t> at = s.stamps;
         std::uint64_t show = 0, g = f;
-        for (; show == 0 && s.stamps_at(g, at); ++g) {
-            if (s.complete(g, at)) show = g;
+        if (s.inventories_held()) {
+            for (; show == 0 && s.stamp_frame(g, at); ++g) {
+                if (s.complete(g, at)) show = g;
+            }
+        } else {
+            while (s.stamp_frame(g, at))
+                ++g;  // where the marks stop, for mark_lost below
         }
         if (show == 0) {
             // Stopped at a frame whose marks are not all here. One that a later mark of its worker has

@@ -33,6 +33,25 @@ namespace lpss::dds {
 
 namespace fdds = eprosima::fastdds::dds;
 
+/// A generated type whose getKey is safe to call from several threads. fastddsgen's getKey serializes the
+/// key into one buffer held by the type, and a participant's writer and reader of a topic share the type:
+/// the writer computes the key of each sample it writes, the reader (on its receiving thread) that of each
+/// sample that comes without a key hash. A key computed while the other thread filled the buffer put a
+/// sample in a stray instance that is never written again (seen: a worker's sector writer holding two such
+/// samples among its last 8192, and every heartbeat since carrying a GAP for each sequence number after
+/// them, which readers take one by one: a drifting world slower by the minute).
+template <class PubSub>
+class LockedKeyType : public PubSub {
+public:
+    bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle, bool force_md5) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return PubSub::getKey(data, handle, force_md5);
+    }
+
+private:
+    std::mutex mutex_;
+};
+
 /// One DDS participant on a domain, with the publisher, subscriber and topics its writers and readers use.
 class Participant {
 public:
@@ -48,7 +67,7 @@ public:
     /// The topic `name` of type PubSub (registered on first use).
     template <class PubSub>
     fdds::Topic* topic(const std::string& name) {
-        fdds::TypeSupport type(new PubSub());
+        fdds::TypeSupport type(new LockedKeyType<PubSub>());
         return topic(name, type);
     }
     /// A content-filtered view of the sector frames topic holding only sectors with indices in
@@ -212,15 +231,19 @@ public:
     Reader& operator=(const Reader&) = delete;
 
     bool ok() const { return reader_ != nullptr; }
-    /// Takes every available sample and calls each(sample, info) for those with valid data (a disposed
-    /// instance is passed with info.valid_data false). Returns how many were taken.
+    /// Takes the samples available when called and calls each(sample, info) for each (a disposed instance
+    /// is passed with info.valid_data false). Returns how many were taken. Those that arrive meanwhile wait
+    /// for the next call: a reader slower than its writers would otherwise never return (seen: a client
+    /// that joined a drifting world taking sector samples for minutes, its marks never read).
     template <class F>
     int take_all(F&& each) {
         int count = 0;
         T sample;
         fdds::SampleInfo info;
-        while (reader_->take_next_sample(&sample, &info) ==
-               eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        for (std::uint64_t left = std::max<std::uint64_t>(reader_->get_unread_count(), 1); left > 0; --left) {
+            if (reader_->take_next_sample(&sample, &info) !=
+                eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
+                break;
             each(sample, info);
             ++count;
         }

@@ -35,6 +35,11 @@ public:
     /// Puts a body in a sector (one that left a sector and was never seen arriving, such as a body handed
     /// to a worker that died before it published it).
     void insert(const SectorKey& sector, const wire::BodyState& state, const wire::BodyKind& kind);
+    /// Takes out sectors the reader learned are empty (no inventory lists them, and the samples that
+    /// emptied them were lost: see Client). Their bodies have left what this mirror holds unless another
+    /// sector holds them too (the sector's state was stale); their ids go to `left` if given. Looks at
+    /// every sector: for occasional use.
+    void drop(const std::vector<SectorKey>& sectors, std::vector<BodyId>* left = nullptr);
 
     const Sectors& sectors() const { return sectors_; }
     /// What a body held here is, with its id and name.

@@ -70,9 +70,6 @@ public:
     /// Bodies and awake bodies over every sector published.
     Counts totals() const { return totals_; }
     std::size_t sector_count() const { return sectors_.size(); }
-    /// Sectors whose last sample was partial: a reader that joins finds in DDS's history only partial
-    /// samples of them, of no use without what came before.
-    std::vector<SectorKey> last_partial() const;
     /// Calls each(key, stamp, counts) for every sector published (one that holds bodies).
     template <class F>
     void for_each(F&& each) const {
@@ -88,7 +85,6 @@ private:
     struct Sector {
         std::vector<Body> bodies;  ///< sorted by id
         std::uint64_t stamp = 0;
-        bool complete = false;  ///< its last sample was complete
         Counts counts;
         std::array<std::uint32_t, 27> near{};  ///< bodies coming near each neighbour
     };

@@ -30,17 +30,24 @@ struct Delivery {
 
 /// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
 inline constexpr Delivery kStateDelivery{true, 1, true};
-/// Sector frames: durable. A partial sample is of use only on the sample before it, so a writer keeps the
-/// last eight of each sector: a reader that lost one (a shared-memory port full while it was busy) gets it
-/// repaired within eight frames, instead of refusing every later sample until the sector comes whole.
-/// Readers keep as many.
-inline constexpr Delivery kSectorFrameDelivery{true, 8};
-inline constexpr Delivery kSectorFrameReading{true, 8};
+/// Sector frames as a worker writes them: all in one instance (idl/lpss.idl), its last 8192 samples kept,
+/// oldest out first, so that its history has no holes (see SectorFrame). A partial sample is of use only on
+/// the sample before it: a reader that lost one (a shared-memory port full while it was busy) gets it
+/// repaired from there, at the next heartbeat (100 ms), or else asks for the sector whole.
+inline constexpr Delivery kSectorFrameDelivery{true, 8192};
+/// The coordinator's: one instance per sector (the world's first state, written once; the sectors of a
+/// worker that is gone), a few deep.
+inline constexpr Delivery kFirstStateDelivery{true, 8};
+/// Readers keep as many as a worker's writer, per instance.
+inline constexpr Delivery kSectorFrameReading{true, 8192};
 /// Body descriptions as read: every instance's latest.
 inline constexpr Delivery kDescriptionReading{true, 1, true};
 /// Frame starts and worker frames: durable, a few frames deep per instance so that a slow reader does
 /// not lose a frame's marker to the next one.
 inline constexpr Delivery kFrameDelivery{true, 8};
+/// Marks as clients read them: two seconds of frames per worker, so that a client busy taking a burst of
+/// sector samples (another reader joined, a rebalance) loses none and need not ask for inventories again.
+inline constexpr Delivery kMarksReading{true, 120};
 /// A worker's marks, as the workers write them and the coordinator reads them: they carry the worker's
 /// liveliness, so that a worker killed or cut off is found within the lease (0.4 s), not after seconds of
 /// silence. Other readers of the marks ask for no lease and match the coordinator's marks too.

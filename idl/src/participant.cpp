@@ -226,6 +226,11 @@ fdds::DataWriterQos writer_qos(const Delivery& d) {
     // its first few dozen bytes.
     q.writer_resource_limits().reader_filters_allocation =
         eprosima::fastrtps::ResourceLimitedContainerConfig(0u, 0u, 0u);
+    // A sample a reader lost (a shared-memory port full while it was busy) is repaired only once the writer
+    // says what it has sent, on its heartbeat: every 3 s by default, and every frame waits for the marks
+    // and samples of the frame before (seen: frames starting 2.9 s late in a drifting world). A heartbeat
+    // every 100 ms bounds such a stall to about that, for a few dozen small messages a second per reader.
+    q.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100'000'000u);
     return q;
 }
 

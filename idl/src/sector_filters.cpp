@@ -11,10 +11,12 @@ namespace fdds = eprosima::fastdds::dds;
 using ReturnCode = eprosima::fastrtps::types::ReturnCode_t;
 
 // CDR encapsulation: two bytes of representation id (byte 1: 0 big endian, 1 little endian), two of
-// options; then the sample: SectorFrame's key (three int64 sector indices), then its recipients (a uint32
-// count and as many uint32 worker ids), at fixed offsets since every field before them is 8-byte sized.
+// options; then the sample: SectorFrame's key (uint32 writer, uint32 slot), its sector (three int64
+// indices, aligned on 8 with nothing to pad), then its recipients (a uint32 count and as many uint32 worker
+// ids): fixed offsets.
 constexpr std::uint32_t kHeader = 4;
-constexpr std::uint32_t kRecipients = kHeader + 24;
+constexpr std::uint32_t kSector = kHeader + 8;
+constexpr std::uint32_t kRecipients = kSector + 24;
 
 std::uint64_t read(const fdds::IContentFilter::SerializedPayload& payload, std::uint32_t at, int bytes) {
     const bool little = payload.data[1] == 1;
@@ -40,9 +42,9 @@ public:
 
     bool recipient() const override { return false; }
     bool evaluate(const SerializedPayload& payload, const FilterSampleInfo&, const GUID_t&) const override {
-        if (payload.length < kHeader + 24) return false;
+        if (payload.length < kSector + 24) return false;
         for (int a = 0; a < 3; ++a) {
-            const std::uint64_t raw = read(payload, kHeader + 8 * a, 8);
+            const std::uint64_t raw = read(payload, kSector + 8 * a, 8);
             std::int64_t v;
             std::memcpy(&v, &raw, sizeof v);
             if (v < lo[a] || v > hi[a]) return false;

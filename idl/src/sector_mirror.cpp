@@ -133,6 +133,28 @@ void SectorMirror::insert(const SectorKey& sector, const wire::BodyState& state,
     put(sectors_[sector], state, intern(kind));
 }
 
+void SectorMirror::drop(const std::vector<SectorKey>& sectors, std::vector<BodyId>* left) {
+    std::unordered_set<BodyId> gone;
+    for (const SectorKey& key : sectors) {
+        auto it = sectors_.find(key);
+        if (it == sectors_.end()) continue;
+        for (const Body& b : it->second)
+            gone.insert(b.state.id());
+        sectors_.erase(it);
+    }
+    if (gone.empty()) return;
+    for (const auto& [key, bodies] : sectors_) {
+        for (const Body& b : bodies)
+            gone.erase(b.state.id());
+    }
+    std::vector<BodyId> ids(gone.begin(), gone.end());
+    std::sort(ids.begin(), ids.end());
+    for (BodyId id : ids) {
+        names_.erase(id);
+        if (left) left->push_back(id);
+    }
+}
+
 wire::BodyKind SectorMirror::kind(const Body& body) const {
     wire::BodyKind out = kinds_.at(body.kind);
     out.id(body.state.id());

@@ -72,7 +72,6 @@ void SectorPublisher::adopt(const SectorKey& key, const std::vector<BodySnapshot
         sector.bodies.push_back(std::move(body));
     }
     sector.stamp = frame;
-    sector.complete = true;
 }
 
 std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
@@ -109,15 +108,13 @@ std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
     }
     if (sample.bodies().empty() && sample.departed().empty()) return std::nullopt;
     if (sector.bodies.empty()) {
-        // Emptied: said in a complete sample. It stays the last sample of the sector in the writer's durable
-        // history, and a reader that joins later can use it alone; a partial one there would be of no use
-        // without its base, and the sector, forgotten here, is never sent whole again (seen: late joiners
-        // that waited for ever on a sector a body had left).
+        // Emptied: said in a complete sample, which a reader can use alone. A partial one would be of no use
+        // to a reader that missed its base, and the sector, forgotten here, is never sent whole again (seen:
+        // late joiners that waited for ever on a sector a body had left).
         sectors_.erase(found);
         return sample_of(key, frame, frame, true);
     }
     sector.stamp = frame;
-    sector.complete = false;
     return sample;
 }
 
@@ -125,7 +122,6 @@ wire::SectorFrame SectorPublisher::nothing_new(const SectorKey& key, std::uint64
     Sector& sector = sectors_.at(key);
     wire::SectorFrame sample = sample_of(key, frame, sector.stamp, false);
     sector.stamp = frame;
-    sector.complete = false;
     return sample;
 }
 
@@ -150,14 +146,6 @@ void SectorPublisher::forget(const SectorKey& key) {
     totals_.bodies -= it->second.counts.bodies;
     totals_.awake -= it->second.counts.awake;
     sectors_.erase(it);
-}
-
-std::vector<SectorKey> SectorPublisher::last_partial() const {
-    std::vector<SectorKey> out;
-    for (const auto& [key, sector] : sectors_) {
-        if (!sector.complete) out.push_back(key);
-    }
-    return out;
 }
 
 std::uint64_t SectorPublisher::stamp(const SectorKey& key) const {

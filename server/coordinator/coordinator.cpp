@@ -87,6 +87,12 @@ struct Coordinator::State {
     /// The world's first state, and the sectors of a worker that is gone. Kept for the whole run: its
     /// history serves the first state to readers that join late.
     std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
+    /// The instance of each sector it wrote (idl/lpss.idl: one per sector, never reused): the world's first
+    /// state stays in its history, for readers there before frame 1.
+    std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> slots;
+    std::uint32_t slot_of(const SectorKey& key) {
+        return slots.try_emplace(key, static_cast<std::uint32_t>(slots.size())).first->second;
+    }
     std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Command>> commands_in;
@@ -225,7 +231,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kFrameDelivery));
     fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
     state->sectors_out =
-        std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kSectorFrameDelivery));
+        std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
     state->marks_in =
@@ -427,6 +433,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         sample.frame(0);
         sample.base(0);
         sample.worker(0);
+        sample.slot(slot_of(key));
         sample.epoch(current.epoch);
         sample.complete(true);
         for (std::uint32_t n : by_sector[key]) {
@@ -724,6 +731,7 @@ void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t 
             radii.push_back(bounding_radius(dds::from_wire(kind).shape));
         sample.recipients(recipients(key, sample.bodies(), radii, fresh));
         bodies += sample.bodies().size();
+        sample.slot(slot_of(key));
         sectors_out->write(sample);
         chain.accept(sample);
         wire::WrittenSector entry;
@@ -915,8 +923,17 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.ended.assign(s.live.begin(), s.live.end());
-        // The first frames' samples (whole for sectors not in the first state) have gone into the copy of
-        // the world by now: their buffers are free.
+        // Every worker has ended frame 2, so every worker holds the world's first state, and so does every
+        // client frame 1 waited for: it leaves this writer's history (380 bytes a body: 537 MiB at a million
+        // bodies). A reader that comes later asks for an inventory and gets its sectors whole from their
+        // owners. The first frames' samples (whole for sectors not in the first state) have gone into the
+        // copy of the world by now: their buffers are free too.
+        if (f == 2) {
+            std::size_t removed = 0;
+            s.sectors_out->raw()->clear_history(&removed);
+            spdlog::info("coordinator: the world's first state ({} samples) leaves its writer's history",
+                         removed);
+        }
         if (f == 3) runtime::give_back_free_memory();
         s.collect_handoffs(f);
         if (!s.joining.empty() && s.next.epoch == s.current.epoch) s.admit(f);

@@ -36,12 +36,25 @@ double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-/// A reader's request for an inventory of the sectors this worker owns in a region.
+/// A reader's request for an inventory of the sectors this worker owns in a region, answered with those
+/// sectors whole once this worker's sector writer reaches the reader's (what a writer sends before it has
+/// matched a reader never reaches it).
 struct InventoryRequest {
     std::string reader;
     std::uint64_t request = 0;
     SectorKey lo, hi;
+    std::optional<dds::GuidBytes> frames_reader;  ///< none: answered at once
+    std::chrono::steady_clock::time_point asked;
+
+    bool covers(const SectorKey& key) const {
+        return key.i >= lo.i && key.i <= hi.i && key.j >= lo.j && key.j <= hi.j && key.k >= lo.k &&
+               key.k <= hi.k;
+    }
 };
+
+/// A request whose reader this worker's writer has not reached by then is dropped (the reader asks again
+/// if it is still there).
+constexpr std::chrono::seconds kInventoryPatience{10};
 
 /// Load reports come every this many frames.
 constexpr std::uint64_t kLoadReportEvery = 60;
@@ -91,12 +104,10 @@ struct Worker::State {
     /// Sectors taken over (the world's first state, a rebalance, a worker gone): their readers hold what
     /// another writer sent, so this worker's first sample of each is whole, empty or not.
     std::set<SectorKey> adopted;
-    std::vector<InventoryRequest> inventory_requests;
-    /// A reader matched this worker's sector frames: the next mark says which sectors exist (an inventory
-    /// for anyone), and the sectors whose last sample was partial are sent whole, so that a reader joining
-    /// finds what it needs in DDS's history and the marks, without having to ask (its requests may reach the
-    /// workers much later than the workers' samples reach it: seen under load).
-    bool reader_joined = false;
+    /// Asked for, not answered yet: by reader, the latest request of each.
+    std::map<std::string, InventoryRequest> inventory_requests;
+    /// Answered in this frame: their sectors go whole, and the mark lists them.
+    std::vector<InventoryRequest> answering;
     /// The largest body radius changed (a spawn): every sector's recipients are looked at again.
     bool reach_changed = false;
     std::map<SectorKey, double> block_loads;  ///< bodies, awake ones counting double, per block owned
@@ -215,9 +226,15 @@ void Worker::State::pump() {
         if (!info.valid_data) return;
         for (const wire::SectorKey& key : r.sectors())
             whole_requested.insert(dds::from_wire(key));  // publish() keeps those it owns
-        if (r.inventory())
-            inventory_requests.push_back(
-                {r.reader(), r.request(), dds::from_wire(r.lo()), dds::from_wire(r.hi())});
+        if (r.inventory()) {
+            InventoryRequest asked{r.reader(),   r.request(), dds::from_wire(r.lo()), dds::from_wire(r.hi()),
+                                   std::nullopt, Clock::now()};
+            if (r.frames_reader().size() == 16) {
+                asked.frames_reader.emplace();
+                std::copy(r.frames_reader().begin(), r.frames_reader().end(), asked.frames_reader->begin());
+            }
+            inventory_requests[r.reader()] = std::move(asked);
+        }
     });
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
@@ -522,11 +539,28 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         if (publisher.publishes(key)) keys.insert(key);
     }
     keys.insert(adopted.begin(), adopted.end());
+    // Readers that asked for an inventory and that this worker's sector writer reaches: every sector of
+    // their region, whole (DDS's history holds a worker's last samples, not every sector's: see SectorFrame
+    // in idl/lpss.idl).
     std::set<SectorKey> for_joiners;
-    if (frames_out->take_new_matches() > 0) {
-        reader_joined = true;
-        for (const SectorKey& key : publisher.last_partial())
-            for_joiners.insert(key);
+    for (auto it = inventory_requests.begin(); it != inventory_requests.end();) {
+        const InventoryRequest& r = it->second;
+        if (r.frames_reader && !frames_out->reaches(*r.frames_reader)) {
+            it = Clock::now() - r.asked > kInventoryPatience ? inventory_requests.erase(it) : std::next(it);
+            continue;
+        }
+        answering.push_back(r);
+        it = inventory_requests.erase(it);
+    }
+    if (!answering.empty()) {
+        publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
+            for (const InventoryRequest& r : answering) {
+                if (r.covers(key)) {
+                    for_joiners.insert(key);
+                    break;
+                }
+            }
+        });
         keys.insert(for_joiners.begin(), for_joiners.end());
     }
     // At the frame before an assignment change, and when bodies may reach farther, every sector's
@@ -580,6 +614,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         sample->recipients(to.recipients);
         sample->released(std::move(to.released));
         sample->worker(options.id);
+        sample->slot(0);  // one instance: see SectorFrame
         sample->epoch(halo.current().epoch);
         outgoing.push_back(std::move(*sample));
         wire::WrittenSector entry;
@@ -598,16 +633,15 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
     wire::WorkerFrame m = mark_of(frame);
     m.epoch(halo.current().epoch);
     m.written(std::move(written));
-    // Inventories: what a reader that starts needs to know which sectors exist and how recent each is.
-    for (const InventoryRequest& r : inventory_requests) {
+    // Inventories: what a reader that starts needs to know which sectors exist (their samples of this
+    // frame, whole, follow the mark).
+    for (const InventoryRequest& r : answering) {
         wire::SectorInventory inventory;
         inventory.reader(r.reader);
         inventory.request(r.request);
         publisher.for_each(
             [&](const SectorKey& key, std::uint64_t stamp, const dds::SectorPublisher::Counts&) {
-                const bool inside = key.i >= r.lo.i && key.i <= r.hi.i && key.j >= r.lo.j &&
-                                    key.j <= r.hi.j && key.k >= r.lo.k && key.k <= r.hi.k;
-                if (!inside) return;
+                if (!r.covers(key)) return;
                 wire::SectorStamp s;
                 s.sector(dds::to_wire(key));
                 s.frame(stamp);
@@ -615,19 +649,7 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
             });
         m.inventories().push_back(std::move(inventory));
     }
-    inventory_requests.clear();
-    if (reader_joined) {
-        wire::SectorInventory inventory;  // for any reader: its reader field is empty
-        publisher.for_each(
-            [&](const SectorKey& key, std::uint64_t stamp, const dds::SectorPublisher::Counts&) {
-                wire::SectorStamp s;
-                s.sector(dds::to_wire(key));
-                s.frame(stamp);
-                inventory.sectors().push_back(s);
-            });
-        m.inventories().push_back(std::move(inventory));
-        reader_joined = false;
-    }
+    answering.clear();
 
     const SectorAssignment& after = halo.switching_after(frame) ? halo.next() : halo.current();
     m.leaving(handoff_requests(w, options.id, after));

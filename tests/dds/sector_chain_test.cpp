@@ -111,6 +111,22 @@ TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
     EXPECT_TRUE(mirror.sectors().empty());
 }
 
+TEST(SectorMirror, DroppingAStaleSectorLetsGoOnlyOfTheBodiesNoOtherSectorHolds) {
+    // A stale state of kSector (bodies 1 and 2) held beside the current one of another sector that holds
+    // body 2 now: dropping kSector takes body 1 out of what the mirror holds, not body 2.
+    SectorMirror mirror;
+    const wire::SectorFrame stale = complete(0, {state_of(1, 1.0), state_of(2, 2.0)});
+    wire::SectorFrame elsewhere = complete(40, {state_of(2, 5.0)});
+    elsewhere.sector(to_wire(SectorKey{4, -1, 7}));
+    mirror.apply({&stale, &elsewhere});
+    std::vector<BodyId> left;
+    mirror.drop({kSector, SectorKey{9, 9, 9}}, &left);
+    EXPECT_EQ(left, std::vector<BodyId>{1});
+    EXPECT_EQ(mirror.sectors().count(kSector), 0u);
+    ASSERT_EQ(mirror.sectors().count(SectorKey{4, -1, 7}), 1u);
+    EXPECT_EQ(mirror.sectors().at(SectorKey{4, -1, 7}).front().state.id(), 2u);
+}
+
 TEST(SampleCheck, GarbageFromAPeerIsRefusedWithItsReason) {
     // A real sample of the frame being stepped, or the next one, passes; each kind of garbage a peer on the
     // domain could write is named.

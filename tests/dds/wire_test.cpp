@@ -24,9 +24,12 @@ public:
 const ::testing::Environment* const kRemoveSharedMemory =
     ::testing::AddGlobalTestEnvironment(new RemoveSharedMemory);  // gtest owns it
 
-wire::SectorFrame frame_of(const SectorKey& key, std::uint64_t frame, BodyId id) {
+/// A sample of `key` in instance `slot` (the coordinator gives each sector of the world's first state its
+/// own: idl/lpss.idl).
+wire::SectorFrame frame_of(const SectorKey& key, std::uint64_t frame, BodyId id, std::uint32_t slot) {
     wire::SectorFrame f;
     f.sector(to_wire(key));
+    f.slot(slot);
     f.frame(frame);
     f.complete(true);
     BodySnapshot b;
@@ -55,11 +58,11 @@ TEST(Wire, LateJoinerAndRegionFilter) {
                                      writer_qos(kStateDelivery));
     ASSERT_TRUE(writer.ok());
     const SectorKey far{(std::int64_t{1} << 61) + 3, -7, 0};
-    ASSERT_TRUE(writer.write(frame_of({0, 0, 0}, 5, 1)));
-    ASSERT_TRUE(writer.write(frame_of(far, 5, 2)));
-    ASSERT_TRUE(writer.write(frame_of({1, 0, 0}, 5, 3)));
+    ASSERT_TRUE(writer.write(frame_of({0, 0, 0}, 5, 1, 0)));
+    ASSERT_TRUE(writer.write(frame_of(far, 5, 2, 1)));
+    ASSERT_TRUE(writer.write(frame_of({1, 0, 0}, 5, 3, 2)));
 
-    // Joins after the samples were written: gets the last sample of each sector.
+    // Joins after the samples were written: gets the last sample of each instance.
     auto sub = Participant::create(kDomain, "", "wire-test-sub");
     ASSERT_TRUE(sub.ok());
     Inbox inbox;
@@ -91,7 +94,7 @@ TEST(Wire, LateJoinerAndRegionFilter) {
     EXPECT_TRUE(seen.at(1).awake);
     // Absence decided by an event, not a wait: a last sample, in the region, written after the others. One
     // reliable writer's samples arrive in order, so once it is in, any other that passed the filter is too.
-    ASSERT_TRUE(writer.write(frame_of({0, 0, 1}, 6, 4)));
+    ASSERT_TRUE(writer.write(frame_of({0, 0, 1}, 6, 4, 3)));
     ASSERT_TRUE(eventually([&] {
         region.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
             if (info.valid_data) in_region.push_back(f.bodies().front().id());
