@@ -302,11 +302,12 @@ public:
         participant_ = std::move(p).value();
         auto& part = *participant_;
         // Deep histories: this reader checks every frame, and must not lose one to the next while it
-        // checks a large world's first state.
+        // checks a large world's first state. Sector samples as any reader keeps them (a worker's are all
+        // in one instance).
         const dds::Delivery every_frame{true, 256};
         frames_ = std::make_unique<dds::Reader<wire::SectorFrame>>(
-            part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames), dds::reader_qos(every_frame),
-            &inbox_);
+            part, part.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+            dds::reader_qos(dds::kSectorFrameReading), &inbox_);
         marks_ = std::make_unique<dds::Reader<wire::WorkerFrame>>(
             part, part.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(every_frame),
             &inbox_);
@@ -328,7 +329,9 @@ public:
         inbox_.wait(std::chrono::milliseconds(20));
         frames_->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
             // The coordinator's samples (worker 0) hold the sectors not written since the first state.
-            if (!info.valid_data || chain_.stale(f)) return;
+            if (!info.valid_data) return;
+            if (f.worker() != 0) worker_instances_[f.worker()].insert(info.instance_handle);
+            if (chain_.stale(f)) return;
             if (!f.complete()) ++partial;
             const SectorKey key = dds::from_wire(f.sector());
             if (!chain_.accept(f)) {
@@ -439,6 +442,14 @@ public:
     std::size_t workers = 2;
     std::size_t expected_bodies = 0;
     std::size_t checked = 0, doubled = 0, incomplete = 0, partial = 0, skipped = 0;
+    /// The most DDS instances one worker's sector samples came in: one, so that its writer's history has no
+    /// holes (idl/lpss.idl, SectorFrame).
+    std::size_t most_instances_of_a_worker() const {
+        std::size_t most = 0;
+        for (const auto& [worker, instances] : worker_instances_)
+            most = std::max(most, instances.size());
+        return most;
+    }
     std::map<std::uint32_t, wire::WorkerFrame> last_marks;  ///< each worker's latest end of frame
     SectorAssignment assignment;                            ///< the latest the coordinator announced
     /// The sectors and their bodies as of the last frame checked.
@@ -458,6 +469,7 @@ private:
     std::uint64_t next_ = 1;
     std::vector<std::uint8_t> seen_;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending_;
+    std::map<std::uint32_t, std::set<dds::fdds::InstanceHandle_t>> worker_instances_;
     std::map<std::uint64_t, std::map<std::uint32_t, std::vector<SectorKey>>> marks_by_frame_;
     struct Broken {
         std::uint64_t since = 0;   ///< the frame of its first refused sample
@@ -502,6 +514,7 @@ TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
     EXPECT_EQ(check.incomplete, 0u);
     // The walls never move: after the first frames the sectors travel as partial samples.
     EXPECT_GT(check.partial, 1000u);
+    EXPECT_EQ(check.most_instances_of_a_worker(), 1u);
     std::printf(
         "%zu frames checked: %zu with a body twice, %zu with a body missing; %zu partial samples, %zu "
         "refused for a missing base, %zu frames skipped\n",
