@@ -8,7 +8,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
 out="$root/docs/results"
 subs=("$@")
-if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability accuracy cluster cluster-scale dis); fi
+if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability accuracy cluster cluster-scale late-join dis); fi
 for sub in "${subs[@]}"; do
     echo "lpss: lpss-bench $sub"
     (cd "$root" && build/lpss-bench --out docs/results "$sub" >/dev/null)
