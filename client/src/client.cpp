@@ -332,6 +332,12 @@ void Client::State::ask_for_inventory() {
     // inventory a worker gives for a reader that joins (its writer's history keeps eight frames, and this
     // reader may match it later than that under load). Seen: a late joiner that never showed a frame.
     if (synced || !grid || workers_from.empty()) return;
+    // Not before the world runs, nor while a client that holds the world's first state can still follow it
+    // from frame 1 (each worker's mark of frame 1 stays in its writer's history for its first eight
+    // frames): the answer costs the workers the client's sectors whole.
+    if (newest_mark == kNoMarkYet ||
+        (first_state && newest_mark <= static_cast<std::uint64_t>(dds::kFrameDelivery.depth)))
+        return;
     if (inventory_request != 0 &&
         std::chrono::steady_clock::now() - inventory_asked < std::chrono::seconds(1))
         return;

@@ -55,6 +55,10 @@ struct InventoryRequest {
 /// A request whose reader this worker's writer has not reached by then is dropped (the reader asks again
 /// if it is still there).
 constexpr std::chrono::seconds kInventoryPatience{10};
+/// The sectors an inventory lists go whole at most this many bodies a frame: a whole-world joiner of a
+/// million bodies cost a worker half a million in one frame, which starved a two-core machine long
+/// enough for liveliness leases to lapse. The joiner's first frame comes once its last sector has.
+constexpr std::uint32_t kJoinerBodiesPerFrame = 20000;
 
 /// Load reports come every this many frames.
 constexpr std::uint64_t kLoadReportEvery = 60;
@@ -106,8 +110,11 @@ struct Worker::State {
     std::set<SectorKey> adopted;
     /// Asked for, not answered yet: by reader, the latest request of each.
     std::map<std::string, InventoryRequest> inventory_requests;
-    /// Answered in this frame: their sectors go whole, and the mark lists them.
+    /// Answered in this frame: the mark lists their sectors.
     std::vector<InventoryRequest> answering;
+    /// Sectors of answered inventories still to send whole, in order, a few bodies' worth a frame.
+    std::vector<SectorKey> for_joiners_due;
+    std::set<SectorKey> for_joiners_queued;
     /// The largest body radius changed (a spawn): every sector's recipients are looked at again.
     bool reach_changed = false;
     std::map<SectorKey, double> block_loads;  ///< bodies, awake ones counting double, per block owned
@@ -542,7 +549,6 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     // Readers that asked for an inventory and that this worker's sector writer reaches: every sector of
     // their region, whole (DDS's history holds a worker's last samples, not every sector's: see SectorFrame
     // in idl/lpss.idl).
-    std::set<SectorKey> for_joiners;
     for (auto it = inventory_requests.begin(); it != inventory_requests.end();) {
         const InventoryRequest& r = it->second;
         if (r.frames_reader && !frames_out->reaches(*r.frames_reader)) {
@@ -555,14 +561,26 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     if (!answering.empty()) {
         publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
             for (const InventoryRequest& r : answering) {
-                if (r.covers(key)) {
-                    for_joiners.insert(key);
+                if (r.covers(key) && for_joiners_queued.insert(key).second) {
+                    for_joiners_due.push_back(key);
                     break;
                 }
             }
         });
-        keys.insert(for_joiners.begin(), for_joiners.end());
     }
+    std::set<SectorKey> for_joiners;
+    std::size_t taken = 0;
+    for (std::uint32_t bodies = 0; taken < for_joiners_due.size() && bodies < kJoinerBodiesPerFrame;
+         ++taken) {
+        const SectorKey& key = for_joiners_due[taken];
+        for_joiners_queued.erase(key);
+        if (!publisher.publishes(key)) continue;  // given away or emptied since: its new sample says so
+        bodies += publisher.counts(key).bodies;
+        for_joiners.insert(key);
+    }
+    for_joiners_due.erase(for_joiners_due.begin(),
+                          for_joiners_due.begin() + static_cast<std::ptrdiff_t>(taken));
+    keys.insert(for_joiners.begin(), for_joiners.end());
     // At the frame before an assignment change, and when bodies may reach farther, every sector's
     // recipients are looked at again (neighbours change owners); those that change owner go whole.
     std::set<SectorKey> handed;
