@@ -30,15 +30,17 @@ struct Delivery {
 
 /// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
 inline constexpr Delivery kStateDelivery{true, 1, true};
-/// Sector frames as a worker writes them: all in one instance (idl/lpss.idl), its last 8192 samples kept,
+/// Sector frames as a worker writes them: all in one instance (idl/lpss.idl), its last 2048 samples kept,
 /// oldest out first, so that its history has no holes (see SectorFrame). A partial sample is of use only on
 /// the sample before it: a reader that lost one (a shared-memory port full while it was busy) gets it
-/// repaired from there, at the next heartbeat (100 ms), or else asks for the sector whole.
-inline constexpr Delivery kSectorFrameDelivery{true, 8192};
+/// repaired from there at the next heartbeat (100 ms; 2048 samples last 170 ms at the 12,000 a second of
+/// the drifting late-join scene), or else asks for the sector whole. 8192 cost a worker 18 MiB more at
+/// 10,000 bodies.
+inline constexpr Delivery kSectorFrameDelivery{true, 2048};
 /// The coordinator's: one instance per sector (the world's first state, written once; the sectors of a
 /// worker that is gone), a few deep.
 inline constexpr Delivery kFirstStateDelivery{true, 8};
-/// Readers keep as many as a worker's writer, per instance.
+/// Readers keep more, per instance: a burst of sectors sent whole (a rebalance) is not taken until written.
 inline constexpr Delivery kSectorFrameReading{true, 8192};
 /// Body descriptions as read: every instance's latest.
 inline constexpr Delivery kDescriptionReading{true, 1, true};
