@@ -40,6 +40,7 @@ struct Client::State {
     std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
 
     std::optional<SectorGrid> grid;
+    std::uint32_t term = 0;  ///< the highest coordinator term seen
     std::optional<WorldSettings> settings;
     /// Assignments by the frame they take effect from: which workers end each frame, and own which sectors.
     std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
@@ -200,7 +201,9 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
 
 void Client::State::take() {
     assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;
+        // A coordinator replaced by its standby (a lower term) may still be about: its word no longer counts.
+        if (!info.valid_data || a.term() < term) return;
+        term = a.term();
         grid = SectorGrid(a.settings().sector_size());
         settings = dds::from_wire(a.settings());
         workers_from[a.from_frame()] = a.workers();

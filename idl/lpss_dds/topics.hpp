@@ -16,6 +16,7 @@ inline constexpr const char* kCommands = "lpss/commands";
 inline constexpr const char* kCommandResults = "lpss/command_results";
 inline constexpr const char* kSectorRequests = "lpss/sector_requests";
 inline constexpr const char* kStatus = "lpss/status";
+inline constexpr const char* kFrameAcks = "lpss/frame_acks";
 
 /// How a topic is delivered.
 struct Delivery {
@@ -54,6 +55,10 @@ inline constexpr Delivery kMarksReading{true, 120};
 /// liveliness, so that a worker killed or cut off is found within the lease (0.4 s), not after seconds of
 /// silence. Other readers of the marks ask for no lease and match the coordinator's marks too.
 inline constexpr Delivery kWorkerMarks{true, 8, false, 400};
+/// Frame starts as the coordinator writes them, and a standby's acknowledgements: each writer's liveliness is
+/// asserted by a thread of its own within 0.4 s, so that a standby learns within the lease that the
+/// coordinator is gone, and the coordinator that its standby is. Workers read both without a lease.
+inline constexpr Delivery kCoordinatorWords{true, 8, false, 400};
 /// Commands and sector requests: volatile, deep enough for bursts.
 inline constexpr Delivery kCommandDelivery{false, 256};
 /// Command results: durable, the last 256 per client (results are keyed by client), so that a client

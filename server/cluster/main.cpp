@@ -1,7 +1,8 @@
 // lpss-cluster: the main job. Starts a coordinator and N workers on this machine as child processes,
 // runs a scene, shows the coordinator's progress while a large world loads, prints a live summary (frame
 // rate, bodies, sectors, frame time and bytes received per worker, handoffs, memory), and on Ctrl-C or at
-// the end stops every child cleanly.
+// the end stops every child cleanly. A standby coordinator runs beside the coordinator unless told not to,
+// and takes over if the coordinator dies.
 #include <fmt/format.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <thread>
 
 #include "child_process.hpp"
@@ -73,6 +75,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e9));
     app.add_option("--await-clients", await_clients,
                    "frame 1 waits until this many clients have matched every topic they read");
+    bool no_standby = false;
+    app.add_flag("--no-standby", no_standby,
+                 "no standby coordinator (by default one follows the world and takes over if the coordinator "
+                 "dies)");
     CLI11_PARSE(app, argc, argv);
 
     // The coordinator reads and checks the scene (reading it here too would double the start of a large
@@ -139,11 +145,25 @@ int main(int argc, char** argv) {
          std::to_string(block_size), "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
          std::to_string(await_clients), "--command-rate", fmt::format("{}", command_rate)});
     if (realtime) args.push_back("--realtime");
+    // The standby first, so that it follows the world from its first state; the coordinator waits for it.
+    std::optional<ChildProcess> standby;
+    if (!no_standby) {
+        std::vector<std::string> standby_args = args;
+        standby_args.push_back("--standby");
+        standby = ChildProcess::start(coordinator_program, standby_args, log_dir + "/standby.log");
+        if (!standby) {
+            std::fprintf(stderr, "lpss-cluster: cannot start the standby coordinator\n");
+            return 2;
+        }
+        args.push_back("--await-standby");
+    }
     auto coordinator = ChildProcess::start(coordinator_program, args, log_dir + "/coordinator.log");
     if (!coordinator) {
         std::fprintf(stderr, "lpss-cluster: cannot start the coordinator\n");
         return 2;
     }
+    ChildProcess* active = &*coordinator;  ///< the coordinator that runs the world
+    bool taken_over = false;
     fmt::print("lpss-cluster: {} on {} worker(s), domain {}; logs in {}\n", scene_path, workers, domain,
                log_dir);
     std::fflush(stdout);
@@ -161,8 +181,12 @@ int main(int argc, char** argv) {
     std::uint64_t printed_frame = 0;
     // Memory of every process, as the kernel counts it: resident now, and the most each has held.
     auto memory = [&]() {
-        std::vector<std::pair<std::string, lpss::MemoryUse>> all = {
-            {"coordinator", lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{})}};
+        std::vector<std::pair<std::string, lpss::MemoryUse>> all;
+        if (coordinator->running())
+            all.emplace_back("coordinator", lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}));
+        if (standby && standby->running())
+            all.emplace_back(taken_over ? "coordinator (was standby)" : "standby",
+                             lpss::memory_use(standby->pid()).value_or(lpss::MemoryUse{}));
         for (std::size_t n = 0; n < children.size(); ++n)
             all.emplace_back(fmt::format("worker {}", n + 1),
                              lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}));
@@ -238,7 +262,7 @@ int main(int argc, char** argv) {
         });
         if (last_frame > memory_frame && Clock::now() - memory_taken > std::chrono::milliseconds(200)) {
             // Only while every process is there: at the end they go one by one.
-            bool all = lpss::memory_use(coordinator->pid()).has_value();
+            bool all = lpss::memory_use(active->pid()).has_value();
             for (ChildProcess& c : children)
                 all = all && lpss::memory_use(c.pid()).has_value();
             if (all) {
@@ -255,8 +279,19 @@ int main(int argc, char** argv) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
             memory_seen = true;
         }
-        if (!coordinator->running()) {
-            exit_code = coordinator->exit_code().value_or(1);
+        if (!active->running()) {
+            exit_code = active->exit_code().value_or(1);
+            // A coordinator killed (a signal, not an exit that says why) once the world runs, while its
+            // standby runs: the standby takes over, and the world goes on.
+            if (exit_code >= 128 && last_frame > 0 && !taken_over && standby && standby->running()) {
+                taken_over = true;
+                active = &*standby;
+                fmt::print("lpss-cluster: the coordinator ended (exit {}); the standby takes over\n",
+                           exit_code);
+                std::fflush(stdout);
+                exit_code = 0;
+                continue;
+            }
             break;
         }
         // A worker the coordinator took as gone (stopped or cut off past its lease) stops with exit 5:
@@ -275,11 +310,15 @@ int main(int argc, char** argv) {
             // Ctrl-C: the coordinator tells the workers to stop after the current frame.
             stopping = true;
             fmt::print("lpss-cluster: stopping\n");
-            exit_code = coordinator->stop(std::chrono::seconds(10));
+            exit_code = active->stop(std::chrono::seconds(10));
             if (exit_code == 128 + 15) exit_code = 0;
             break;
         }
     }
+    // A standby ends on the coordinator's stop too; stopped if not.
+    if (standby && !taken_over &&
+        !standby->wait(exit_code == 0 ? std::chrono::seconds(5) : std::chrono::seconds(0)))
+        standby->stop();
     // Workers end on the coordinator's stop; those that do not are stopped (at once if the coordinator
     // failed: no stop will come).
     for (ChildProcess& c : children) {
@@ -299,7 +338,7 @@ int main(int argc, char** argv) {
     fmt::print("memory at frame {}: {}\n", memory_frame, memory_at_frame);
     if (exit_code != 0) {
         // The coordinator's last words say why (a refused scene, say).
-        std::ifstream log(log_dir + "/coordinator.log");
+        std::ifstream log(log_dir + (taken_over ? "/standby.log" : "/coordinator.log"));
         std::string line, last_error;
         while (std::getline(log, line)) {
             if (!last_error.empty() || line.find("[error]") != std::string::npos) last_error += line + "\n";

@@ -1,5 +1,3 @@
-#include "coordinator.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -9,187 +7,25 @@
 #include <thread>
 #include <unordered_map>
 
-#include "command_rate.hpp"
 #include "commands.hpp"
+#include "coordinator_state.hpp"
 #include "heap.hpp"
 #include "lost_frame.hpp"
-#include "lpss/common/assignment.hpp"
 #include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
-#include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
-#include "lpss_dds/participant.hpp"
-#include "lpss_dds/sample_check.hpp"
-#include "lpss_dds/sector_chain.hpp"
-#include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
+#include "realtime_pacer.hpp"
 
 namespace lpss::coordinator {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 /// A rebalance is made only if it brings the heaviest worker's load down to this share of what it is.
 constexpr double kRebalanceGain = 0.85;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// Starts frames at the scene's rate. After a pause (a worker gone, a slow frame) it goes on at that rate
-/// from where it is, rather than starting frames back to back until it has caught up on the wall time lost:
-/// a burst of frames would be a burst of motion for anyone watching in real time. A lag of a few frames is
-/// made up (jitter), more is let go, logged, and counted.
-class RealtimePacer {
-public:
-    RealtimePacer(Clock::time_point start, double dt) : origin_(start), dt_(dt) {}
-    void pace(std::uint64_t frame) {
-        const auto due = origin_ + std::chrono::duration_cast<Clock::duration>(
-                                       std::chrono::duration<double>(double(frame - first_) * dt_));
-        const auto now = Clock::now();
-        const double late = std::chrono::duration<double>(now - due).count();
-        if (late <= kCatchUpFrames * dt_) {
-            std::this_thread::sleep_until(due);
-            return;
-        }
-        lost_ += late;
-        origin_ = now;
-        first_ = frame;
-        if (late > 0.1)
-            spdlog::warn(
-                "coordinator: frame {} starts {:.2f} s late; real time goes on from here ({:.2f} s "
-                "lost in all)",
-                frame, late, lost_);
-    }
-    /// Seconds of real time let go so far.
-    double lost() const { return lost_; }
-
-private:
-    static constexpr double kCatchUpFrames = 3.0;
-    Clock::time_point origin_;
-    double dt_;
-    std::uint64_t first_ = 1;
-    double lost_ = 0.0;
-};
-
 }  // namespace
-
-struct Coordinator::State {
-    CoordinatorOptions options;
-    WorldSettings settings;
-    SectorGrid grid{1.0};
-    std::unique_ptr<dds::Participant> participant;
-    dds::Inbox inbox;
-    std::unique_ptr<dds::Writer<wire::FrameGo>> go_out;
-    std::unique_ptr<dds::Writer<wire::Assignment>> assignment_out;
-    std::unique_ptr<dds::Writer<wire::BodyDescription>> planes_out;
-    std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
-    std::unique_ptr<dds::Writer<wire::WorkerFrame>>
-        marks_out;  ///< as worker 0, when it writes sectors itself
-    /// The world's first state, and the sectors of a worker that is gone. Kept for the whole run: its
-    /// history serves the first state to readers that join late.
-    std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
-    /// The instance of each sector it wrote (idl/lpss.idl: one per sector, never reused): the world's first
-    /// state stays in its history, for readers there before frame 1.
-    std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> slots;
-    std::uint32_t slot_of(const SectorKey& key) {
-        return slots.try_emplace(key, static_cast<std::uint32_t>(slots.size())).first->second;
-    }
-    std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
-    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
-    std::unique_ptr<dds::Reader<wire::Command>> commands_in;
-    std::unique_ptr<dds::Reader<wire::SectorFrame>> sectors_in;
-
-    /// Every body's id, and whether it is static: what commands are checked against. Bodies come and go
-    /// through the coordinator only (the scene, spawns, removals), so this is always exact.
-    std::unordered_map<BodyId, bool> statics;
-    std::map<BodyId, BodyDesc> planes;
-    /// The world as the workers last published it (plus in-flight handoffs): what a worker that is gone
-    /// leaves behind, restored to the workers that take its sectors over.
-    dds::SectorMirror mirror;
-    dds::SectorChain chain;
-    dds::RefusedSamples refused_samples{"coordinator"};
-    std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
-
-    SectorAssignment current;
-    SectorAssignment next;
-    double largest_radius = 0.0;  ///< of any body the world has held: how far bodies reach (border_reach)
-    std::set<std::uint32_t> live;
-    std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
-    std::map<std::uint32_t, Clock::time_point> last_heard;
-    std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
-    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
-    /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
-    /// join; then, once given sectors, the frame from which they are live.
-    std::set<std::uint32_t> joining;
-    /// Each joiner's reader of sector frames; and, from each worker's latest mark, the joiners whose reader
-    /// its sector writer has matched. A joiner is admitted once every worker and this coordinator reach it:
-    /// what is written before a writer matches a reader never reaches it.
-    std::map<std::uint32_t, dds::GuidBytes> joiner_readers;
-    std::map<std::uint32_t, std::set<std::uint32_t>> reaching;
-    std::map<std::uint32_t, Clock::time_point> joining_since;
-    /// The workers that do not reach this joiner yet (0 stands for the coordinator); empty once all do.
-    std::vector<std::uint32_t> not_reaching(std::uint32_t joiner) const;
-    std::map<std::uint32_t, std::uint64_t> admitted;
-    /// The workers sectors can go to: the live ones and those admitted.
-    std::set<std::uint32_t> members() const {
-        std::set<std::uint32_t> out = live;
-        for (const auto& [w, from] : admitted)
-            out.insert(w);
-        return out;
-    }
-    /// Gives the workers that asked to join sectors from frame f + 2 (their owners send them whole at f + 1).
-    void admit(std::uint64_t f);
-    /// The load of each block with bodies, as its owner last reported it. A worker's report replaces what
-    /// it reported before: a block it no longer reports has emptied, or another worker reports it.
-    struct ReportedLoad {
-        float load = 0.0f;
-        std::uint32_t worker = 0;
-    };
-    std::map<SectorKey, ReportedLoad> block_loads;
-    std::vector<wire::Handoff> grants;          ///< for the next frame
-    std::vector<wire::Handoff> in_flight;       ///< granted with the last frame started
-    std::vector<wire::Handoff> stood_in;        ///< requests of a gone worker's lost frame, stepped here
-    std::set<std::uint32_t> gone_after_ending;  ///< gone after ending the frame: its requests stand
-    std::vector<wire::Command> commands;        ///< accepted, for the next frame
-    std::vector<std::uint64_t> command_order;
-    std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
-    std::vector<std::uint64_t> command_order_in_flight;
-    std::set<std::string> ready_clients;  ///< clients that matched every topic they read
-    CommandRate command_rate{0.0};
-    std::uint64_t next_order = 1;
-    std::uint64_t frame = 0;
-    std::uint64_t handoffs = 0;
-    bool wrote_sectors = false;  ///< for the frame before the next: its FrameGo says so
-    std::vector<std::uint32_t> ended;
-    Clock::time_point frame_started;
-
-    void status(const std::string& phase, double progress, std::uint64_t bodies);
-    Status load_and_seed(const std::atomic<bool>& stop);
-    void pump();
-    /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
-    void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
-    /// A complete sample of a sector as the copy of the world holds it, as worker 0.
-    wire::SectorFrame whole_from_mirror(const SectorKey& key, std::uint64_t f) const;
-    void gone(std::uint32_t w, std::uint64_t f, const char* why);
-    void send_restored(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh,
-                       const std::set<SectorKey>& keys, Clock::time_point started);
-    void accept_commands();
-    void refuse(const wire::Command& c, const std::string& reason);
-    bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
-    void collect_handoffs(std::uint64_t f);
-    /// Sends the sectors of a worker that is gone, as of frame f, to their holders under `fresh`; when it did
-    /// not finish frame f (`unfinished`), that frame is stepped again here first.
-    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh, bool unfinished);
-    SectorAssignment balanced(const std::set<std::uint32_t>& workers) const;
-    std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
-    void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
-    SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
-    void publish_assignment() { assignment_out->write(dds::to_wire(next, settings, largest_radius)); }
-    /// The workers a sector's samples go to under `assignment`: the owners of the neighbouring sectors its
-    /// bodies come near (as a worker decides for its own sectors).
-    std::vector<std::uint32_t> recipients(const SectorKey& key, const std::vector<wire::BodyState>& bodies,
-                                          const std::vector<double>& radii,
-                                          const SectorAssignment& assignment) const;
-};
 
 Coordinator::Coordinator(std::unique_ptr<State> state) : state_(std::move(state)) {}
 
@@ -205,6 +41,15 @@ Coordinator::~Coordinator() {
     state_->marks_in.reset();
     state_->commands_in.reset();
     state_->sectors_in.reset();
+    state_->go_beat.reset();
+    state_->marks_beat.reset();
+    state_->acks_beat.reset();
+    state_->go_in.reset();
+    state_->acks_out.reset();
+    state_->acks_in.reset();
+    state_->assignment_in.reset();
+    state_->planes_in.reset();
+    state_->results_in.reset();
 }
 
 Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOptions& options) {
@@ -219,8 +64,29 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;
     using namespace dds;
-    state->go_out = std::make_unique<Writer<wire::FrameGo>>(p, p.topic<wire::FrameGoPubSubType>(kFrameGo),
-                                                            writer_qos(kFrameDelivery));
+    if (options.id == 0)
+        return Error{"coordinator id 0 is the coordinator's as a sector writer: take 1 or more"};
+    fdds::Topic* go = p.topic<wire::FrameGoPubSubType>(kFrameGo);
+    state->go_out = std::make_unique<Writer<wire::FrameGo>>(p, go, writer_qos(kCoordinatorWords));
+    state->go_in =
+        std::make_unique<Reader<wire::FrameGo>>(p, go, reader_qos(kCoordinatorWords), &state->inbox);
+    fdds::Topic* acks = p.topic<wire::FrameAckPubSubType>(kFrameAcks);
+    state->acks_in =
+        std::make_unique<Reader<wire::FrameAck>>(p, acks, reader_qos(kCoordinatorWords), &state->inbox);
+    if (options.standby) {
+        state->acks_out = std::make_unique<Writer<wire::FrameAck>>(p, acks, writer_qos(kCoordinatorWords));
+        state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
+            p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
+        state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
+            p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
+            &state->inbox);
+        state->results_in = std::make_unique<Reader<wire::CommandResult>>(
+            p, p.topic<wire::CommandResultPubSubType>(kCommandResults), reader_qos(kResultDelivery),
+            &state->inbox);
+        if (!state->acks_out->ok() || !state->assignment_in->ok() || !state->planes_in->ok() ||
+            !state->results_in->ok())
+            return Error{"cannot create the standby coordinator's DDS readers and writers"};
+    }
     state->assignment_out = std::make_unique<Writer<wire::Assignment>>(
         p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), writer_qos(kStateDelivery));
     state->planes_out = std::make_unique<Writer<wire::BodyDescription>>(
@@ -228,7 +94,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kResultDelivery));
     fdds::Topic* marks = p.topic<wire::WorkerFramePubSubType>(kWorkerFrames);
-    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kFrameDelivery));
+    // With the workers' lease, which readers of marks ask for (a standby among them, for the first state).
+    state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kWorkerMarks));
     fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
     state->sectors_out =
         std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
@@ -243,16 +110,26 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
         !state->results_out->ok() || !state->marks_out->ok() || !state->sectors_out->ok() ||
         !state->status_out->ok() || !state->marks_in->ok() || !state->commands_in->ok() ||
-        !state->sectors_in->ok()) {
+        !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
     }
-    state->status("loading", 0.0, 0);
+    // Four beats a lease, as workers' marks: a standby takes over when the coordinator's lapse.
+    state->marks_beat = std::make_unique<LivelinessBeat>(
+        state->marks_out->raw(), std::chrono::milliseconds(kWorkerMarks.lease_ms / 4));
+    state->go_beat = std::make_unique<LivelinessBeat>(
+        state->go_out->raw(), std::chrono::milliseconds(kCoordinatorWords.lease_ms / 4));
+    if (options.standby) {
+        state->acks_beat = std::make_unique<LivelinessBeat>(
+            state->acks_out->raw(), std::chrono::milliseconds(kCoordinatorWords.lease_ms / 4));
+    } else {
+        state->status("loading", 0.0, 0);
+    }
     return std::unique_ptr<Coordinator>(new Coordinator(std::move(state)));
 }
 
 void Coordinator::State::status(const std::string& phase, double progress, std::uint64_t bodies) {
     wire::ClusterStatus s;
-    s.coordinator(1);
+    s.coordinator(options.id);
     s.phase(phase);
     s.progress(progress);
     s.bodies(bodies);
@@ -285,7 +162,20 @@ std::vector<std::uint32_t> Coordinator::State::recipients(const SectorKey& key,
 
 void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || m.worker() == 0) return;
+        if (!info.valid_data) return;
+        if (m.worker() == 0) {
+            // Another coordinator's, which a standby follows: the sectors of the world's first state, and the
+            // frames it wrote sector samples for.
+            if (!standing_by || info.publication_handle == marks_out->raw()->get_instance_handle()) return;
+            if (m.frame() == 0) {
+                first_state.emplace();
+                for (const wire::WrittenSector& w : m.written())
+                    first_state->push_back(dds::from_wire(w.sector()));
+            } else {
+                primary_wrote.insert(m.frame());
+            }
+            return;
+        }
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
         reaching[m.worker()] = std::set<std::uint32_t>(m.reaching().begin(), m.reaching().end());
@@ -309,14 +199,32 @@ void Coordinator::State::pump() {
         marks[{m.worker(), m.frame()}] = m;
     });
     sectors_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        // Its own samples (worker 0) are in the mirror already.
-        if (!info.valid_data || f.worker() == 0) return;
+        if (!info.valid_data) return;
+        if (f.worker() == 0) {
+            // Its own samples are in the mirror already. Another coordinator's (the world's first state, the
+            // sectors of a worker that is gone) are the world's to a standby, the first state with what each
+            // body is.
+            if (!standing_by || info.publication_handle == sectors_out->raw()->get_instance_handle()) return;
+            if (f.frame() == 0) {
+                for (const wire::BodyKind& kind : f.kinds())
+                    statics.emplace(kind.id(), kind.mass() == 0.0);
+            }
+        }
         if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
         if (chain.accept(f)) samples[f.frame()].push_back(f);
     });
+    if (!standing_by) watch_coordinators();
     // A worker whose lease expired and that came back before it was taken as gone (a late beat on a loaded
     // machine) stays.
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
+        if (standby_writer && change.writer == *standby_writer) {
+            standby_lost = standby_lost || !change.alive;
+            continue;
+        }
+        if (primary_writer && change.writer == *primary_writer) {
+            primary_lost = !change.alive;
+            continue;
+        }
         auto worker = writer_of.find(change.writer);
         if (worker == writer_of.end()) continue;
         if (change.alive) {
@@ -326,6 +234,27 @@ void Coordinator::State::pump() {
             spdlog::warn("coordinator: worker {} missed its liveliness lease", worker->second);
         }
     }
+}
+
+void Coordinator::State::watch_coordinators() {
+    go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data || go.coordinator() == options.id || go.term() <= term || fenced) return;
+        fenced = true;
+        spdlog::error(
+            "coordinator {}: coordinator {} started frame {} under term {} (this one's is {}): it took over, "
+            "and this one stops without starting another frame",
+            options.id, go.coordinator(), go.frame(), go.term(), term);
+    });
+    acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
+        // A standby's hello (frame 0): named in every frame start from now on, until it is gone.
+        if (!info.valid_data || ack.frame() != 0 || ack.coordinator() == options.id || standby != 0 ||
+            standby_dropped)
+            return;
+        standby = ack.coordinator();
+        standby_writer = info.publication_handle;
+        spdlog::info("coordinator {}: coordinator {} stands by; frames wait until it holds their start",
+                     options.id, standby);
+    });
 }
 
 void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also) {
@@ -479,6 +408,16 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         accept_commands();
         inbox.wait(std::chrono::milliseconds(20));
     }
+    // A standby, if one was asked for: from frame 1 on, every frame waits until it holds the frame's start.
+    for (auto said = Clock::now(); options.await_standby && standby == 0;) {
+        if (stop.load()) return Error{"stopped"};
+        if (Clock::now() - said > std::chrono::seconds(5)) {
+            said = Clock::now();
+            spdlog::info("coordinator: frame 1 waits for a standby coordinator");
+        }
+        pump();
+        inbox.wait(std::chrono::milliseconds(20));
+    }
     spdlog::info("coordinator: {} sectors sent to {} worker(s) in {:.2f} s", keys.size(), live.size(),
                  seconds_since(send_start));
     // The scene is in the workers' hands now: give its memory back.
@@ -496,83 +435,96 @@ void Coordinator::State::refuse(const wire::Command& c, const std::string& reaso
 
 void Coordinator::State::accept_commands() {
     commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data) return;
-        if (c.kind() != wire::kCommandReady && !command_rate.allow(c.client(), Clock::now())) {
-            return refuse(c, "client '" + c.client() + "' sends more than " +
-                                 std::to_string(static_cast<long long>(command_rate.per_second())) +
-                                 " commands a second: refused (rate limit)");
-        }
-        auto known = statics.find(c.body());
-        auto finite = [](const wire::Vec3d& v) {
-            return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
-        };
-        BodyDesc body;
-        switch (c.kind()) {
-            case wire::kCommandSpawn: {
-                body = dds::from_wire(c.spawn());
-                if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-                if (Status st = validate_body(body, settings); !st) return refuse(c, st.error().message);
-                if (statics.count(body.id))
-                    return refuse(c, describe_body(body) + ": id is used by another body");
-                break;
-            }
-            case wire::kCommandRemove:
-                if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
-                break;
-            case wire::kCommandImpulse:
-            case wire::kCommandSetVelocity:
-                if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
-                if (known->second) {
-                    return refuse(c,
-                                  "body id " + std::to_string(c.body()) + ": is static and cannot be pushed");
-                }
-                if (!finite(c.vector1()) || !finite(c.vector2())) {
-                    return refuse(c,
-                                  "body id " + std::to_string(c.body()) + ": command vectors must be finite");
-                }
-                break;
-            case wire::kCommandReady: {
-                if (ready_clients.insert(c.client()).second)
-                    spdlog::info("coordinator: client {} is ready ({} so far)", c.client(),
-                                 ready_clients.size());
-                results_out->write(worker::answer(c, 0, frame + 1, {}));  // said again until this comes
-                return;
-            }
-            default:
-                return refuse(c, "unknown command kind " + std::to_string(c.kind()));
-        }
-        commands.push_back(c);
-        command_order.push_back(next_order++);
-        // Spawns and removals change the body set at once, so that later commands see them.
-        if (c.kind() == wire::kCommandSpawn) {
-            statics.emplace(body.id, body.is_static());
-            if (!is_plane(body.shape) && bounding_radius(body.shape) > largest_radius) {
-                largest_radius = bounding_radius(body.shape);  // reaches farther: FrameGo says so
-                publish_assignment();
-            }
-            if (is_plane(body.shape)) {
-                BodySnapshot anchor;
-                anchor.id = body.id;
-                anchor.position = std::holds_alternative<Eigen::Vector3d>(body.position)
-                                      ? grid.from_global(std::get<Eigen::Vector3d>(body.position)).value()
-                                      : grid.canonical(std::get<SectorPosition>(body.position)).value();
-                anchor.orientation = body.orientation.normalized();
-                wire::BodyDescription d = dds::describe(body, anchor);
-                d.rank(~std::uint64_t{0});
-                planes_out->write(d);
-                planes[body.id] = body;
-            }
-        } else if (c.kind() == wire::kCommandRemove) {
-            statics.erase(known);
-            if (auto plane = planes.find(c.body()); plane != planes.end()) {
-                wire::BodyDescription d;
-                d.id(c.body());
-                if (!planes_out->dispose(d))
-                    spdlog::error("coordinator: cannot dispose the description of plane {}", c.body());
-                planes.erase(plane);
-            }
-        }
+        if (info.valid_data) accept(c);
     });
+}
+
+void Coordinator::State::accept(const wire::Command& c) {
+    if (c.kind() != wire::kCommandReady && !command_rate.allow(c.client(), Clock::now())) {
+        return refuse(c, "client '" + c.client() + "' sends more than " +
+                             std::to_string(static_cast<long long>(command_rate.per_second())) +
+                             " commands a second: refused (rate limit)");
+    }
+    auto known = statics.find(c.body());
+    auto finite = [](const wire::Vec3d& v) {
+        return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+    };
+    BodyDesc body;
+    switch (c.kind()) {
+        case wire::kCommandSpawn: {
+            body = dds::from_wire(c.spawn());
+            if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
+            if (Status st = validate_body(body, settings); !st) return refuse(c, st.error().message);
+            if (statics.count(body.id))
+                return refuse(c, describe_body(body) + ": id is used by another body");
+            break;
+        }
+        case wire::kCommandRemove:
+            if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
+            break;
+        case wire::kCommandImpulse:
+        case wire::kCommandSetVelocity:
+            if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
+            if (known->second) {
+                return refuse(c, "body id " + std::to_string(c.body()) + ": is static and cannot be pushed");
+            }
+            if (!finite(c.vector1()) || !finite(c.vector2())) {
+                return refuse(c, "body id " + std::to_string(c.body()) + ": command vectors must be finite");
+            }
+            break;
+        case wire::kCommandReady: {
+            if (ready_clients.insert(c.client()).second)
+                spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());
+            results_out->write(worker::answer(c, 0, frame + 1, {}));  // said again until this comes
+            return;
+        }
+        default:
+            return refuse(c, "unknown command kind " + std::to_string(c.kind()));
+    }
+    commands.push_back(c);
+    command_order.push_back(next_order++);
+    // Spawns and removals change the body set at once, so that later commands see them.
+    if (c.kind() == wire::kCommandSpawn) {
+        statics.emplace(body.id, body.is_static());
+        if (!is_plane(body.shape) && bounding_radius(body.shape) > largest_radius) {
+            largest_radius = bounding_radius(body.shape);  // reaches farther: FrameGo says so
+            publish_assignment();
+        }
+        if (is_plane(body.shape)) {
+            BodySnapshot anchor;
+            anchor.id = body.id;
+            anchor.position = std::holds_alternative<Eigen::Vector3d>(body.position)
+                                  ? grid.from_global(std::get<Eigen::Vector3d>(body.position)).value()
+                                  : grid.canonical(std::get<SectorPosition>(body.position)).value();
+            anchor.orientation = body.orientation.normalized();
+            wire::BodyDescription d = dds::describe(body, anchor);
+            d.rank(~std::uint64_t{0});
+            planes_out->write(d);
+            planes[body.id] = body;
+        }
+    } else if (c.kind() == wire::kCommandRemove) {
+        statics.erase(known);
+        if (auto plane = planes.find(c.body()); plane != planes.end()) {
+            wire::BodyDescription d;
+            d.id(c.body());
+            if (!planes_out->dispose(d))
+                spdlog::error("coordinator: cannot dispose the description of plane {}", c.body());
+            planes.erase(plane);
+        }
+    }
+}
+
+void Coordinator::State::drop_standby() {
+    spdlog::warn(
+        "coordinator {}: standby coordinator {} missed its liveliness lease: frames go on without it, and it "
+        "will not take over",
+        options.id, standby);
+    standby = 0;
+    standby_dropped = true;
+    if (last_go.standby() != 0) {
+        last_go.standby(0);
+        go_out->write(last_go);
+    }
 }
 
 bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop) {
@@ -581,6 +533,8 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
     // stepped here, and its sectors go to the others.
     for (;;) {
         pump();
+        if (fenced) return false;
+        if (standby != 0 && standby_lost) drop_standby();
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (lost.count(w)) gone(w, f, "its liveliness lease expired");
         }
@@ -854,7 +808,18 @@ void Coordinator::State::reassign(SectorAssignment fresh, std::uint64_t from_fra
 int Coordinator::run(const std::atomic<bool>& stop) {
     State& s = *state_;
     const CoordinatorOptions& o = s.options;
-    if (Status st = s.load_and_seed(stop); !st) {
+    // A standby goes on from the last frame start of the coordinator it took over from: that frame runs,
+    // and this coordinator waits for its end.
+    std::uint64_t first = 1;
+    if (o.standby) {
+        Expected<std::uint64_t> from = s.follow(stop);
+        if (!from) {
+            spdlog::error("coordinator {}: {}", o.id, from.error().message);
+            return 3;
+        }
+        if (*from == 0) return 0;  // stopped, or the cluster ended
+        first = *from;
+    } else if (Status st = s.load_and_seed(stop); !st) {
         if (stop.load()) return 0;
         spdlog::error("coordinator: {}", st.error().message);
         return 3;
@@ -862,60 +827,69 @@ int Coordinator::run(const std::atomic<bool>& stop) {
 
     const auto start = Clock::now();
     auto last_log = start;
-    RealtimePacer pacer(start, s.settings.dt);
-    for (std::uint64_t f = 1;; ++f) {
-        s.frame = f - 1;
-        const bool finished = (o.frames > 0 && f > o.frames) || stop.load();
-        s.accept_commands();
-        wire::FrameGo go;
-        go.coordinator(1);
-        go.frame(f);
-        if (s.next.from_frame <= f) s.current = s.next;
-        for (auto it = s.admitted.begin(); it != s.admitted.end();) {
-            if (it->second > f) {
-                ++it;
-                continue;
+    RealtimePacer pacer(start, s.settings.dt, o.standby ? first + 1 : 1,
+                        o.standby ? s.last_go.time_lost() : 0.0);
+    for (std::uint64_t f = first;; ++f) {
+        if (s.fenced) return 6;
+        const bool taken_over = o.standby && f == first;  // its start was the coordinator's
+        if (!taken_over) {
+            s.frame = f - 1;
+            const bool finished = (o.frames > 0 && f > o.frames) || stop.load();
+            s.accept_commands();
+            wire::FrameGo go;
+            go.coordinator(o.id);
+            go.term(s.term);
+            go.standby(s.standby);
+            go.frame(f);
+            if (s.next.from_frame <= f) s.current = s.next;
+            for (auto it = s.admitted.begin(); it != s.admitted.end();) {
+                if (it->second > f) {
+                    ++it;
+                    continue;
+                }
+                s.live.insert(it->first);
+                s.last_heard[it->first] = Clock::now();
+                it = s.admitted.erase(it);
             }
-            s.live.insert(it->first);
-            s.last_heard[it->first] = Clock::now();
-            it = s.admitted.erase(it);
+            go.epoch(s.current.epoch);
+            go.next(s.assignment_on_wire());
+            go.planes(static_cast<std::uint32_t>(s.planes.size()));
+            go.ended(s.ended);
+            go.coordinator_wrote(s.wrote_sectors);
+            go.stop(finished);
+            go.handoffs(s.grants);
+            go.commands(s.commands);
+            go.command_sequence(s.command_order);
+            if (o.realtime) pacer.pace(f);
+            go.started_ns(static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                         std::chrono::system_clock::now().time_since_epoch())
+                                                         .count()));
+            go.time_lost(pacer.lost());
+            s.go_out->write(go);
+            s.last_go = go;
+            // While the workers step: the copy of the world catches up with the frame before, off the path
+            // from one frame's end to the next one's start.
+            if (f > 1) s.take_samples(f - 1);
+            s.frame_started = Clock::now();
+            if (f == 1 || f % 60 == 0) s.status("running", 0.0, s.statics.size());
+            if (finished) {
+                spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
+                s.status("stopped", 0.0, s.statics.size());
+                // Give the workers a moment to read the stop before this participant goes.
+                std::this_thread::sleep_for(std::chrono::milliseconds(300));
+                return 0;
+            }
+            s.in_flight = std::move(s.grants);
+            s.grants.clear();
+            s.commands_in_flight = std::move(s.commands);
+            s.command_order_in_flight = std::move(s.command_order);
+            s.commands.clear();
+            s.command_order.clear();
+            s.wrote_sectors = false;
         }
-        go.epoch(s.current.epoch);
-        go.next(dds::to_wire(s.next, s.settings, s.largest_radius));
-        go.planes(static_cast<std::uint32_t>(s.planes.size()));
-        go.ended(s.ended);
-        go.coordinator_wrote(s.wrote_sectors);
-        go.stop(finished);
-        go.handoffs(s.grants);
-        go.commands(s.commands);
-        go.command_sequence(s.command_order);
-        if (o.realtime) pacer.pace(f);
-        go.started_ns(static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                     std::chrono::system_clock::now().time_since_epoch())
-                                                     .count()));
-        go.time_lost(pacer.lost());
-        s.go_out->write(go);
-        // While the workers step: the copy of the world catches up with the frame before, off the path
-        // from one frame's end to the next one's start.
-        if (f > 1) s.take_samples(f - 1);
-        s.frame_started = Clock::now();
-        if (f == 1 || f % 60 == 0) s.status("running", 0.0, s.statics.size());
-        if (finished) {
-            spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
-            s.status("stopped", 0.0, s.statics.size());
-            // Give the workers a moment to read the stop before this participant goes.
-            std::this_thread::sleep_for(std::chrono::milliseconds(300));
-            return 0;
-        }
-        s.in_flight = std::move(s.grants);
-        s.grants.clear();
-        s.commands_in_flight = std::move(s.commands);
-        s.command_order_in_flight = std::move(s.command_order);
-        s.commands.clear();
-        s.command_order.clear();
-        s.wrote_sectors = false;
         s.frame = f;
         if (!s.wait_for_frame(f, stop)) {
+            if (s.fenced) return 6;
             if (s.live.empty()) {
                 spdlog::error("coordinator: every worker is gone");
                 return 5;
@@ -973,7 +947,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (Clock::now() - last_log > std::chrono::seconds(5)) {
             last_log = Clock::now();
             spdlog::info("coordinator: frame {}, {:.1f} frames/s, {} handoffs so far", f,
-                         static_cast<double>(f) / seconds_since(start), s.handoffs);
+                         static_cast<double>(f - first + 1) / seconds_since(start), s.handoffs);
         }
     }
 }

@@ -1,7 +1,7 @@
 // The coordinator: loads the scene, assigns sectors to workers (ranges of the Morton curve of blocks,
 // balanced by load, with an epoch), starts every frame, arbitrates handoffs so that every body has
 // exactly one owner in every frame, orders clients' commands, and moves sectors between workers when the
-// load shifts or a worker stops answering.
+// load shifts or a worker stops answering. A second one may stand by (standby.cpp) and take over.
 #pragma once
 
 #include <atomic>
@@ -32,6 +32,14 @@ struct CoordinatorOptions {
     /// Commands a second one client may send (bursts of as many); beyond, each is refused with the reason.
     /// 0: no limit.
     double command_rate = 1000.0;
+    /// This coordinator's id (its FrameGo's key): 1 for the one that starts the world, another for a standby.
+    std::uint32_t id = 1;
+    /// Stand by: follow the coordinator that runs the world (hold its world copy, acknowledge each frame it
+    /// starts), and take over, with a higher term, when its liveliness lease runs out.
+    bool standby = false;
+    /// Frame 1 waits until a standby coordinator follows the world; from then on, each frame waits until
+    /// the standby holds its start.
+    bool await_standby = false;
 };
 
 class Coordinator {

@@ -29,8 +29,16 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e9));
     app.add_option("--worker-wait-s", worker_wait_s, "how long to wait for the workers to appear");
     app.add_option("--worker-timeout-ms", worker_timeout_ms, "silence after which a worker is taken as gone");
+    app.add_flag(
+        "--standby", o.standby,
+        "follow the coordinator that runs the world, and take over when it is gone (id 2 unless --id)");
+    app.add_option("--id", o.id, "this coordinator's id (1: the one that starts the world)")
+        ->check(CLI::Range(1u, 1000u));
+    app.add_flag("--await-standby", o.await_standby,
+                 "frame 1 waits for a standby coordinator, and every frame until it holds the frame's start");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
     CLI11_PARSE(app, argc, argv);
+    if (o.standby && app.count("--id") == 0) o.id = 2;
     if (lpss::Status st = lpss::set_log_level(log_level); !st) {
         std::fprintf(stderr, "lpss-coordinator: %s\n", st.error().message.c_str());
         return 2;

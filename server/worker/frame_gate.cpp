@@ -6,7 +6,19 @@
 
 namespace lpss::worker {
 
-void FrameGate::take_go(const wire::FrameGo& go) { gos_[go.frame()] = go; }
+void FrameGate::take_go(const wire::FrameGo& go) {
+    if (go.term() < term_) return;
+    if (go.term() > term_) {
+        term_ = go.term();
+        gos_.clear();  // words of the coordinator replaced: its frames start no more
+    }
+    gos_[go.frame()] = go;
+}
+
+void FrameGate::take_ack(const wire::FrameAck& ack) {
+    std::uint64_t& frame = acked_[ack.coordinator()];
+    frame = std::max(frame, ack.frame());
+}
 
 void FrameGate::take_mark(const wire::WorkerFrame& mark) {
     if (mark.worker() == self_ && self_ != 0) return;
@@ -20,7 +32,12 @@ void FrameGate::take_mark(const wire::WorkerFrame& mark) {
 
 const wire::FrameGo* FrameGate::go(std::uint64_t frame) const {
     auto it = gos_.find(frame);
-    return it == gos_.end() ? nullptr : &it->second;
+    if (it == gos_.end()) return nullptr;
+    if (const std::uint32_t standby = it->second.standby(); standby != 0) {
+        auto acked = acked_.find(standby);
+        if (acked == acked_.end() || acked->second < frame) return nullptr;
+    }
+    return &it->second;
 }
 
 void FrameGate::started(std::uint64_t frame) { gos_.erase(gos_.begin(), gos_.upper_bound(frame)); }

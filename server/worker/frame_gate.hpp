@@ -1,7 +1,9 @@
-// When a worker may start a frame: the coordinator has said so (FrameGo), and every worker that ended the
-// frame before (and the coordinator, when it wrote sector samples itself) has said so, with every sample
-// it lists as written there for this worker already received. Samples of later frames may be in too; the
-// gate only says when the frame before is whole.
+// When a worker may start a frame: the coordinator has said so (FrameGo), the standby coordinator it names
+// holds that word (FrameAck), and every worker that ended the frame before (and the coordinator, when it
+// wrote sector samples itself) has said so, with every sample it lists as written there for this worker
+// already received. Samples of later frames may be in too; the gate only says when the frame before is
+// whole. Words of a coordinator's term lower than the highest seen are dropped: a standby that took over
+// raised the term, and the coordinator it replaced may still be about (stopped, cut off).
 #pragma once
 
 #include <cstdint>
@@ -20,11 +22,15 @@ public:
 
     /// A FrameGo read from the coordinator (kept until its frame starts).
     void take_go(const wire::FrameGo& go);
+    /// A standby coordinator's word that it holds the FrameGo of a frame.
+    void take_ack(const wire::FrameAck& ack);
     /// A WorkerFrame read from another worker or the coordinator (this worker's own are ignored).
     void take_mark(const wire::WorkerFrame& mark);
 
-    /// The coordinator's word for `frame`, if it has come.
+    /// The coordinator's word for `frame`, if it has come and the standby it names holds it.
     const wire::FrameGo* go(std::uint64_t frame) const;
+    /// The highest coordinator term seen.
+    std::uint32_t term() const { return term_; }
     /// The coordinator's latest word, whatever its frame: what a worker joining a running cluster looks at.
     const wire::FrameGo* latest() const { return gos_.empty() ? nullptr : &gos_.rbegin()->second; }
     /// Drops the words for frames up to `frame`, once that frame has started.
@@ -45,7 +51,9 @@ public:
 
 private:
     std::uint32_t self_;
-    std::map<std::uint64_t, wire::FrameGo> gos_;
+    std::uint32_t term_ = 0;
+    std::map<std::uint64_t, wire::FrameGo> gos_;    ///< of term_
+    std::map<std::uint32_t, std::uint64_t> acked_;  ///< standby -> the latest frame it holds
     /// (worker, frame) -> the sectors it wrote for this worker in that frame
     std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks_;
 };

@@ -77,6 +77,7 @@ struct Worker::State {
     std::unique_ptr<dds::Reader<wire::SectorFrame>> frames_in;
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
+    std::unique_ptr<dds::Reader<wire::FrameAck>> acks_in;  ///< a standby coordinator's
     std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;
     std::unique_ptr<dds::Reader<wire::SectorRequest>> requests_in;
     std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
@@ -173,6 +174,7 @@ Worker::~Worker() {
     state_->frames_in.reset();
     state_->marks_in.reset();
     state_->go_in.reset();
+    state_->acks_in.reset();
     state_->planes_in.reset();
     state_->requests_in.reset();
     state_->requests_out.reset();
@@ -201,6 +203,8 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
     state->go_in = std::make_unique<Reader<wire::FrameGo>>(p, p.topic<wire::FrameGoPubSubType>(kFrameGo),
                                                            reader_qos(kFrameDelivery), &state->inbox);
+    state->acks_in = std::make_unique<Reader<wire::FrameAck>>(
+        p, p.topic<wire::FrameAckPubSubType>(kFrameAcks), reader_qos(kFrameDelivery), &state->inbox);
     state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);
@@ -210,8 +214,8 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
         p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), reader_qos(kCommandDelivery),
         &state->inbox);
     if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() ||
-        !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() || !state->planes_in->ok() ||
-        !state->requests_in->ok() || !state->requests_out->ok()) {
+        !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() || !state->acks_in->ok() ||
+        !state->planes_in->ok() || !state->requests_in->ok() || !state->requests_out->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
     // Four times a lease: a late beat or two does not make a worker look gone.
@@ -223,6 +227,9 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
 void Worker::State::pump() {
     go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
         if (info.valid_data && go.frame() > frame) gate.take_go(go);
+    });
+    acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data) gate.take_ack(ack);
     });
     planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
         // The world's planes at the start; later ones arrive as commands, in order, and removals too.

@@ -671,16 +671,24 @@ TEST(Cluster, ALoadNoCutCanSpreadMovesNoSectors) {
     EXPECT_EQ(text.find("(load shifted)"), std::string::npos) << text;
 }
 
-TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
-    // Besides the crossing bodies, slow balls in sectors far apart: whichever of them worker 2 owns lie
-    // outside the halos of the others, who must rebuild them from what the coordinator sends. Every body
-    // moves (the slow ones by 0.5/60 units a frame), so a frame of motion lost shows against lpss-sim.
+/// The crossing bodies and slow balls in sectors far apart: whichever of them a worker owns lie outside
+/// the halos of the others. Every body moves (the slow ones by 0.5/60 units a frame), so a frame of motion
+/// lost or stepped twice shows against lpss-sim.
+Scene crossing_scene_with_far_balls() {
     Scene scene = crossing_scene();
     for (int n = 0; n < 6; ++n) {
         BodyDesc far = scenes::sphere_body(40 + n, 0.5, 1.0, Eigen::Vector3d((8 + 4 * n) * kL, 0, 0));
         far.linear_velocity = Eigen::Vector3d(0, 0.5, 0);
         scene.bodies.push_back(far);
     }
+    return scene;
+}
+
+TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
+    // Besides the crossing bodies, slow balls in sectors far apart: whichever of them worker 2 owns lie
+    // outside the halos of the others, who must rebuild them from what the coordinator sends. Every body
+    // moves (the slow ones by 0.5/60 units a frame), so a frame of motion lost shows against lpss-sim.
+    const Scene scene = crossing_scene_with_far_balls();
     const int domain = 128;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "dies");
@@ -854,12 +862,7 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     // join, is given sectors from a later frame, and builds them from their owners' whole samples: every
     // body stays exactly once, within the cluster's bound of lpss-sim, in every frame a client sees, and
     // both newcomers end up simulating bodies.
-    Scene scene = crossing_scene();
-    for (int n = 0; n < 6; ++n) {
-        BodyDesc far = scenes::sphere_body(40 + n, 0.5, 1.0, Eigen::Vector3d((8 + 4 * n) * kL, 0, 0));
-        far.linear_velocity = Eigen::Vector3d(0, 0.5, 0);
-        scene.bodies.push_back(far);
-    }
+    const Scene scene = crossing_scene_with_far_balls();
     const int domain = 142;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "joins");
@@ -931,10 +934,120 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     }
 }
 
+TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostOrRepeated) {
+    // lpss-cluster starts a standby coordinator beside the coordinator. The coordinator is killed outright
+    // mid-run while a client spawns bodies, one a frame: the standby takes over within a second, every frame
+    // the client sees afterwards holds every body once within the cluster's bound of lpss-sim (no frame of
+    // motion lost or stepped twice), and every spawn is answered once, applied or refused, and each applied
+    // one is in the world once from the frame it was applied at.
+    const Scene scene = crossing_scene_with_far_balls();
+    const int domain = 146;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "coordinator_dies");
+    constexpr std::uint64_t kFrames = 600;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "watcher");
+    auto spawner = connect(domain, "spawner");
+    ASSERT_TRUE(client && spawner);
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    using Clock = std::chrono::steady_clock;
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::map<std::uint64_t, Clock::time_point> arrived;
+    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
+        collect_into(
+            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
+            std::chrono::milliseconds(5));
+    };
+    gather(150, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    // Static spheres far from everything, so that the rest of the world stays lpss-sim's: 30 spawns about
+    // a frame apart, the coordinator killed after the tenth.
+    std::vector<std::pair<BodyId, std::uint64_t>> spawns;  // id, request
+    const std::string coordinator =
+        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    std::uint64_t killed_at = 0;
+    Clock::time_point killed;
+    for (int n = 0; n < 30; ++n) {
+        BodyDesc b = scenes::sphere_body(1000 + n, 0.25, 0.0, Eigen::Vector3d(50 * kL, 3.0 * n, 0));
+        spawns.emplace_back(b.id, spawner->spawn(b));
+        spawner->poll(std::chrono::milliseconds(16));
+        if (n == 10) {
+            killed = Clock::now();
+            killed_at = frames.rbegin()->first;
+            ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+        }
+        for (WorldFrame& f : client->poll(std::chrono::milliseconds(0))) {
+            arrived[f.frame] = Clock::now();
+            frames[f.frame] = std::move(f);
+        }
+    }
+    gather(kFrames, std::chrono::seconds(60));
+    ASSERT_GT(frames.rbegin()->first, killed_at + 200) << "frames go on after the coordinator's death";
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+
+    double pause = 0.0;
+    auto previous = killed;
+    for (auto it = arrived.upper_bound(killed_at); it != arrived.end(); ++it) {
+        pause = std::max(pause, std::chrono::duration<double>(it->second - previous).count());
+        previous = it->second;
+    }
+    // Each spawn answered once: applied at a frame, or refused with a reason.
+    std::map<BodyId, std::uint64_t> applied_at;
+    for (const auto& [id, request] : spawns) {
+        const auto outcome = spawner->wait_outcome(request, std::chrono::seconds(5));
+        ASSERT_TRUE(outcome) << "spawn of body " << id << " never answered";
+        if (outcome->applied) {
+            applied_at[id] = outcome->frame;
+        } else {
+            EXPECT_FALSE(outcome->reason.empty());
+        }
+    }
+    EXPECT_GE(applied_at.size(), 25u) << "spawns are refused only for a reason";
+    const SectorGrid grid(kL);
+    double worst = 0.0;
+    std::uint64_t checked_after = 0;
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        std::size_t spawned = 0;
+        std::set<BodyId> seen;
+        for (const BodyView& b : frame.bodies) {
+            ASSERT_TRUE(seen.insert(b.id).second) << "frame " << f << ": body " << b.id << " twice";
+            if (b.id >= 1000) {
+                ++spawned;
+                ASSERT_TRUE(applied_at.count(b.id)) << "frame " << f << ": body " << b.id << " not applied";
+                EXPECT_GE(f, applied_at.at(b.id)) << "body " << b.id << " before it was spawned";
+                continue;
+            }
+            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+        }
+        ASSERT_EQ(frame.bodies.size() - spawned, expected.size()) << "frame " << f;
+        std::size_t due = 0;
+        for (const auto& [id, at] : applied_at)
+            due += at <= f ? 1 : 0;
+        EXPECT_EQ(spawned, due) << "frame " << f << ": every body spawned by then, once";
+        if (f > killed_at) ++checked_after;
+    }
+    std::printf(
+        "the coordinator killed after frame %llu: the longest wait for a frame %.3f s; %llu frames after it "
+        "seen, largest difference from lpss-sim %.3g; %zu of 30 spawns applied\n",
+        static_cast<unsigned long long>(killed_at), pause, static_cast<unsigned long long>(checked_after),
+        worst, applied_at.size());
+    EXPECT_LE(worst, 1e-3);
+    EXPECT_LT(pause, 1.0) << "the world goes on within a second of the kill";
+    EXPECT_GE(checked_after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
+    const std::string text = read_file(cluster.log_dir + "/standby.log");
+    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+}
+
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
-    // No standby coordinator exists yet: when the coordinator is killed mid-run, the workers must not wait
-    // in silence for ever. They find it gone when DDS drops its participant (its lease, 20 s), say so, and
-    // stop after their coordinator wait (1 s here) with exit code 3.
+    // Without a standby coordinator (none is started here), when the coordinator is killed mid-run, the
+    // workers must not wait in silence for ever. They find it gone when DDS drops its participant (its lease,
+    // 20 s), say so, and stop after their coordinator wait (1 s here) with exit code 3.
     const int domain = 140;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(crossing_scene(), "orphans");

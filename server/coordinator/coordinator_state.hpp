@@ -1,0 +1,204 @@
+// What a coordinator holds and does, shared by its files: coordinator.cpp (loading, frames, workers gone,
+// rebalancing) and standby.cpp (following another coordinator and taking over from it).
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <set>
+#include <unordered_map>
+#include <vector>
+
+#include "command_rate.hpp"
+#include "coordinator.hpp"
+#include "lpss/common/assignment.hpp"
+#include "lpss/common/body_desc.hpp"
+#include "lpss/common/sector_grid.hpp"
+#include "lpss/common/world_settings.hpp"
+#include "lpssPubSubTypes.h"
+#include "lpss_dds/convert.hpp"
+#include "lpss_dds/participant.hpp"
+#include "lpss_dds/sample_check.hpp"
+#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sector_mirror.hpp"
+
+namespace lpss::coordinator {
+
+using Clock = std::chrono::steady_clock;
+
+struct Coordinator::State {
+    CoordinatorOptions options;
+    WorldSettings settings;
+    SectorGrid grid{1.0};
+    std::unique_ptr<dds::Participant> participant;
+    dds::Inbox inbox;
+    std::unique_ptr<dds::Writer<wire::FrameGo>> go_out;
+    std::unique_ptr<dds::Writer<wire::Assignment>> assignment_out;
+    std::unique_ptr<dds::Writer<wire::BodyDescription>> planes_out;
+    std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
+    std::unique_ptr<dds::Writer<wire::WorkerFrame>>
+        marks_out;  ///< as worker 0, when it writes sectors itself
+    /// The world's first state, and the sectors of a worker that is gone. Kept for the whole run: its
+    /// history serves the first state to readers that join late.
+    std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
+    /// The instance of each sector it wrote (idl/lpss.idl: one per sector, never reused): the world's first
+    /// state stays in its history, for readers there before frame 1.
+    std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> slots;
+    std::uint32_t slot_of(const SectorKey& key) {
+        return slots.try_emplace(key, static_cast<std::uint32_t>(slots.size())).first->second;
+    }
+    std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
+    std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
+    std::unique_ptr<dds::Reader<wire::Command>> commands_in;
+    std::unique_ptr<dds::Reader<wire::SectorFrame>> sectors_in;
+    /// The other coordinator's frame starts: a standby follows the coordinator's; a coordinator learns
+    /// from a higher term that a standby took over from it.
+    std::unique_ptr<dds::Reader<wire::FrameGo>> go_in;
+    std::unique_ptr<dds::Writer<wire::FrameAck>> acks_out;          ///< as a standby
+    std::unique_ptr<dds::Reader<wire::FrameAck>> acks_in;           ///< its standby's
+    std::unique_ptr<dds::Reader<wire::Assignment>> assignment_in;   ///< as a standby
+    std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;  ///< as a standby
+    std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;   ///< as a standby: refusals given
+    std::unique_ptr<dds::LivelinessBeat> go_beat;                   ///< keeps its frame starts' lease
+    std::unique_ptr<dds::LivelinessBeat> acks_beat;   ///< keeps its acknowledgements' lease, as a standby
+    std::unique_ptr<dds::LivelinessBeat> marks_beat;  ///< keeps its marks' lease (as worker 0)
+
+    std::uint32_t term = 1;
+    /// Following another coordinator (options.standby, until it takes over).
+    bool standing_by = false;
+    std::optional<dds::fdds::InstanceHandle_t> primary_writer;  ///< the followed coordinator's frame starts
+    bool primary_lost = false;                                  ///< their liveliness lapsed
+    bool standby_lost = false;                                  ///< the standby's acknowledgements' lapsed
+    /// The sectors of the world's first state, from the coordinator's mark of frame 0 (as a standby).
+    std::optional<std::vector<SectorKey>> first_state;
+    /// Another coordinator started frames under a higher term: this one was taken over from.
+    bool fenced = false;
+    /// The standby the frames wait for (named in FrameGo); 0: none. Dropped for good once its lease runs
+    /// out: a standby that missed frames no worker waited it for must not take over.
+    std::uint32_t standby = 0;
+    bool standby_dropped = false;
+    std::optional<dds::fdds::InstanceHandle_t> standby_writer;  ///< its acknowledgements' writer
+    wire::FrameGo last_go;  ///< the latest written: written again without a standby that is gone
+    /// Marks of frames a coordinator wrote sector samples for (worker 0's), as a standby learns them.
+    std::set<std::uint64_t> primary_wrote;
+    /// Commands read while standing by, in the order read, until the coordinator applies (FrameGo) or
+    /// refuses (its answer) them: those left when it takes over are its to accept or refuse.
+    std::vector<wire::Command> standing_commands;
+    std::uint64_t followed_order = 0;  ///< the highest command sequence number a followed start carried
+
+    /// Every body's id, and whether it is static: what commands are checked against. Bodies come and go
+    /// through the coordinator only (the scene, spawns, removals), so this is always exact.
+    std::unordered_map<BodyId, bool> statics;
+    std::map<BodyId, BodyDesc> planes;
+    /// The world as the workers last published it (plus in-flight handoffs): what a worker that is gone
+    /// leaves behind, restored to the workers that take its sectors over.
+    dds::SectorMirror mirror;
+    dds::SectorChain chain;
+    dds::RefusedSamples refused_samples{"coordinator"};
+    std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
+
+    SectorAssignment current;
+    SectorAssignment next;
+    double largest_radius = 0.0;  ///< of any body the world has held: how far bodies reach (border_reach)
+    std::set<std::uint32_t> live;
+    std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
+    std::map<std::uint32_t, Clock::time_point> last_heard;
+    std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
+    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
+    /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
+    /// join; then, once given sectors, the frame from which they are live.
+    std::set<std::uint32_t> joining;
+    /// Each joiner's reader of sector frames; and, from each worker's latest mark, the joiners whose reader
+    /// its sector writer has matched. A joiner is admitted once every worker and this coordinator reach it:
+    /// what is written before a writer matches a reader never reaches it.
+    std::map<std::uint32_t, dds::GuidBytes> joiner_readers;
+    std::map<std::uint32_t, std::set<std::uint32_t>> reaching;
+    std::map<std::uint32_t, Clock::time_point> joining_since;
+    /// The workers that do not reach this joiner yet (0 stands for the coordinator); empty once all do.
+    std::vector<std::uint32_t> not_reaching(std::uint32_t joiner) const;
+    std::map<std::uint32_t, std::uint64_t> admitted;
+    /// The workers sectors can go to: the live ones and those admitted.
+    std::set<std::uint32_t> members() const {
+        std::set<std::uint32_t> out = live;
+        for (const auto& [w, from] : admitted)
+            out.insert(w);
+        return out;
+    }
+    /// Gives the workers that asked to join sectors from frame f + 2 (their owners send them whole at f + 1).
+    void admit(std::uint64_t f);
+    /// The load of each block with bodies, as its owner last reported it. A worker's report replaces what
+    /// it reported before: a block it no longer reports has emptied, or another worker reports it.
+    struct ReportedLoad {
+        float load = 0.0f;
+        std::uint32_t worker = 0;
+    };
+    std::map<SectorKey, ReportedLoad> block_loads;
+    std::vector<wire::Handoff> grants;          ///< for the next frame
+    std::vector<wire::Handoff> in_flight;       ///< granted with the last frame started
+    std::vector<wire::Handoff> stood_in;        ///< requests of a gone worker's lost frame, stepped here
+    std::set<std::uint32_t> gone_after_ending;  ///< gone after ending the frame: its requests stand
+    std::vector<wire::Command> commands;        ///< accepted, for the next frame
+    std::vector<std::uint64_t> command_order;
+    std::vector<wire::Command> commands_in_flight;  ///< sent with the last frame started
+    std::vector<std::uint64_t> command_order_in_flight;
+    std::set<std::string> ready_clients;  ///< clients that matched every topic they read
+    CommandRate command_rate{0.0};
+    std::uint64_t next_order = 1;
+    std::uint64_t frame = 0;
+    std::uint64_t handoffs = 0;
+    bool wrote_sectors = false;  ///< for the frame before the next: its FrameGo says so
+    std::vector<std::uint32_t> ended;
+    Clock::time_point frame_started;
+
+    void status(const std::string& phase, double progress, std::uint64_t bodies);
+    Status load_and_seed(const std::atomic<bool>& stop);
+    void pump();
+    /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
+    void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
+    /// A complete sample of a sector as the copy of the world holds it, as worker 0.
+    wire::SectorFrame whole_from_mirror(const SectorKey& key, std::uint64_t f) const;
+    void gone(std::uint32_t w, std::uint64_t f, const char* why);
+    void send_restored(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh,
+                       const std::set<SectorKey>& keys, Clock::time_point started);
+    void accept_commands();
+    /// Accepts one command for the next frame, or refuses it with the reason.
+    void accept(const wire::Command& c);
+    /// The body set as a command another coordinator applied changes it (spawn, removal), for a standby.
+    void follow_bodies(const wire::Command& c);
+    /// Standing by: follows the coordinator until it is gone, then takes over. The frame of the coordinator's
+    /// last start it holds (run() goes on from its end); 0: the cluster stopped or `stop` was set.
+    Expected<std::uint64_t> follow(const std::atomic<bool>& stop);
+    void take_over(const wire::FrameGo& last);
+    /// Writes a FrameAck (as a standby).
+    void acknowledge(std::uint64_t frame);
+    /// Reads the other coordinator's frame starts and a standby's acknowledgements (the coordinator's part).
+    void watch_coordinators();
+    void refuse(const wire::Command& c, const std::string& reason);
+    bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
+    void collect_handoffs(std::uint64_t f);
+    /// Sends the sectors of a worker that is gone, as of frame f, to their holders under `fresh`; when it did
+    /// not finish frame f (`unfinished`), that frame is stepped again here first.
+    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh, bool unfinished);
+    SectorAssignment balanced(const std::set<std::uint32_t>& workers) const;
+    std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
+    void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);
+    SectorAssignment assignment_for(std::uint64_t f) const { return next.from_frame <= f ? next : current; }
+    /// The next assignment as it goes on the wire, with this coordinator's id and term.
+    wire::Assignment assignment_on_wire() const {
+        wire::Assignment a = dds::to_wire(next, settings, largest_radius);
+        a.coordinator(options.id);
+        a.term(term);
+        return a;
+    }
+    void publish_assignment() { assignment_out->write(assignment_on_wire()); }
+    /// Frames go on without a standby that is gone (its lease lapsed): the latest start is written again
+    /// without it, for the workers that wait for its word.
+    void drop_standby();
+    /// The workers a sector's samples go to under `assignment`: the owners of the neighbouring sectors its
+    /// bodies come near (as a worker decides for its own sectors).
+    std::vector<std::uint32_t> recipients(const SectorKey& key, const std::vector<wire::BodyState>& bodies,
+                                          const std::vector<double>& radii,
+                                          const SectorAssignment& assignment) const;
+};
+
+}  // namespace lpss::coordinator

@@ -1,0 +1,166 @@
+// A standby coordinator: it reads what the coordinator reads (the workers' marks and sector samples, the
+// clients' commands) and the coordinator's frame starts, keeps the same copy of the world, and says of each
+// frame start that it holds it (FrameAck); a worker starts a frame that names the standby only then, so the
+// standby knows every frame any worker has started. When the coordinator's liveliness lease runs out, it
+// takes over under a higher term from the coordinator's last frame start: it waits for that frame's end, as
+// the coordinator would have, and starts the next. Workers drop the words of lower terms, and a coordinator
+// that hears of a higher term stops (it was stopped or cut off, not dead).
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "coordinator_state.hpp"
+#include "lpss_dds/convert.hpp"
+
+namespace lpss::coordinator {
+
+void Coordinator::State::acknowledge(std::uint64_t f) {
+    wire::FrameAck ack;
+    ack.coordinator(options.id);
+    ack.term(term);
+    ack.frame(f);
+    acks_out->write(ack);
+}
+
+void Coordinator::State::follow_bodies(const wire::Command& c) {
+    if (c.kind() == wire::kCommandSpawn) {
+        const BodyDesc body = dds::from_wire(c.spawn());
+        statics.emplace(body.id, body.is_static());
+        if (!is_plane(body.shape)) largest_radius = std::max(largest_radius, bounding_radius(body.shape));
+    } else if (c.kind() == wire::kCommandRemove) {
+        statics.erase(c.body());
+        planes.erase(c.body());
+    }
+}
+
+Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop) {
+    standing_by = true;
+    spdlog::info("coordinator {}: standing by on domain {}", options.id, participant->domain());
+    term = 0;  // the followed coordinator's, once its first start comes
+    acknowledge(0);
+    std::map<std::uint64_t, wire::FrameGo> starts;  ///< read, not yet followed
+    std::optional<wire::FrameGo> last;              ///< the latest followed (and acknowledged if it asked)
+    auto forget = [&](const std::string& client, std::uint64_t request) {
+        standing_commands.erase(std::remove_if(standing_commands.begin(), standing_commands.end(),
+                                               [&](const wire::Command& c) {
+                                                   return c.client() == client && c.request() == request;
+                                               }),
+                                standing_commands.end());
+    };
+    for (;;) {
+        if (stop.load()) return std::uint64_t{0};
+        pump();
+        assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || a.coordinator() == options.id) return;
+            settings = dds::from_wire(a.settings());
+            grid = SectorGrid(settings.sector_size);
+            largest_radius = std::max(largest_radius, a.largest_radius());
+        });
+        planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;  // removals come as commands
+            planes[d.id()] = dds::from_wire(d);
+            statics[d.id()] = true;
+        });
+        commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) standing_commands.push_back(c);
+        });
+        // Answered (refused by the coordinator, or applied and answered by a worker): not this one's.
+        results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) forget(r.client(), r.request());
+        });
+        go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || go.coordinator() == options.id || go.term() < term) return;
+            if (go.term() > term) {
+                term = go.term();
+                starts.clear();
+            }
+            primary_writer = info.publication_handle;
+            if (!last || go.frame() > last->frame())
+                starts[go.frame()] = go;  // a start written again replaces
+        });
+        while (!starts.empty()) {
+            const wire::FrameGo& go = starts.begin()->second;
+            if (go.stop()) {
+                if (go.standby() == options.id) acknowledge(go.frame());  // the workers wait for it to stop
+                spdlog::info("coordinator {}: the coordinator stopped the cluster after frame {}", options.id,
+                             go.frame() - 1);
+                return std::uint64_t{0};
+            }
+            // Frame 1 starts the world from its first state: held first, whole.
+            if (go.frame() == 1) {
+                bool held = first_state.has_value();
+                for (std::size_t n = 0; held && n < first_state->size(); ++n)
+                    held = chain.holds((*first_state)[n], 0, ~std::uint64_t{0});
+                if (!held) break;
+            }
+            frame = go.frame();
+            next = dds::from_wire(go.next());
+            if (next.from_frame <= frame || current.workers.empty()) current = next;
+            largest_radius = std::max(largest_radius, go.next().largest_radius());
+            for (std::uint32_t w : next.workers)
+                joining.erase(w);
+            for (std::size_t n = 0; n < go.commands().size(); ++n) {
+                follow_bodies(go.commands()[n]);
+                forget(go.commands()[n].client(), go.commands()[n].request());
+                if (n < go.command_sequence().size())
+                    followed_order = std::max(followed_order, go.command_sequence()[n]);
+            }
+            take_samples(frame - 1);
+            for (auto it = marks.begin(); it != marks.end();)
+                it = it->first.second + 1 < frame ? marks.erase(it) : std::next(it);
+            if (go.standby() == options.id) acknowledge(frame);
+            last = go;
+            starts.erase(starts.begin());
+        }
+        if (primary_lost && last) {
+            if (last->standby() != options.id)
+                return Error{
+                    "the coordinator is gone, and it had stopped waiting for this standby at frame " +
+                    std::to_string(last->frame()) +
+                    ": frames may have started that this standby does not know; it cannot take over"};
+            take_over(*last);
+            return last->frame();
+        }
+        inbox.wait(std::chrono::milliseconds(5));
+    }
+}
+
+void Coordinator::State::take_over(const wire::FrameGo& go) {
+    standing_by = false;
+    term = go.term() + 1;
+    frame = go.frame();
+    last_go = go;
+    // The cluster as the coordinator left it at its last start: that frame's assignment, handoffs and
+    // commands, the workers that run it.
+    next = dds::from_wire(go.next());
+    if (next.from_frame <= frame) current = next;
+    live = std::set<std::uint32_t>(current.workers.begin(), current.workers.end());
+    admitted.clear();
+    for (std::uint32_t w : next.workers) {
+        if (!live.count(w)) admitted[w] = next.from_frame;
+    }
+    in_flight = go.handoffs();
+    commands_in_flight = go.commands();
+    command_order_in_flight = go.command_sequence();
+    next_order = followed_order + 1;
+    wrote_sectors = false;
+    frame_started = Clock::now();
+    for (std::uint32_t w : live)
+        last_heard[w] = frame_started;
+    // A gone worker's sectors it restored at this frame: the next start says so, for the workers to wait for.
+    wrote_sectors = primary_wrote.count(frame) != 0;
+    // Commands read and neither applied nor answered are this coordinator's now, in the order read.
+    const std::size_t standing = standing_commands.size();
+    for (const wire::Command& c : standing_commands)
+        accept(c);
+    standing_commands.clear();
+    publish_assignment();
+    status("running", 0.0, statics.size());
+    spdlog::warn(
+        "coordinator {}: the coordinator's lease ran out after it started frame {}: taking over under term "
+        "{} "
+        "({} workers, {} bodies, {} commands it had not applied or answered)",
+        options.id, frame, term, live.size(), statics.size(), standing);
+}
+
+}  // namespace lpss::coordinator
