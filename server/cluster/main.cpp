@@ -147,6 +147,7 @@ int main(int argc, char** argv) {
     if (realtime) args.push_back("--realtime");
     // The standby first, so that it follows the world from its first state; the coordinator waits for it.
     std::optional<ChildProcess> standby;
+    bool standby_gone = false;  ///< ended before the coordinator (said once)
     if (!no_standby) {
         std::vector<std::string> standby_args = args;
         standby_args.push_back("--standby");
@@ -278,6 +279,14 @@ int main(int argc, char** argv) {
         if (last_frame > 0 && !memory_seen) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
             memory_seen = true;
+        }
+        if (standby && !taken_over && !standby_gone && !standby->running()) {
+            standby_gone = true;
+            fmt::print(
+                "lpss-cluster: the standby coordinator ended (exit {}): no takeover if the coordinator "
+                "ends; see {}/standby.log\n",
+                standby->exit_code().value_or(1), log_dir);
+            std::fflush(stdout);
         }
         if (!active->running()) {
             exit_code = active->exit_code().value_or(1);

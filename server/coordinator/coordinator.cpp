@@ -6,6 +6,7 @@
 #include <set>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 
 #include "commands.hpp"
 #include "coordinator_state.hpp"
@@ -218,7 +219,12 @@ void Coordinator::State::pump() {
     // machine) stays.
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
         if (standby_writer && change.writer == *standby_writer) {
-            standby_lost = standby_lost || !change.alive;
+            standby_lost = !change.alive;
+            if (change.alive && dropped_standby != 0) {
+                standby = std::exchange(dropped_standby, 0);
+                spdlog::warn("coordinator {}: standby coordinator {} is back: frames wait for it again",
+                             options.id, standby);
+            }
             continue;
         }
         if (primary_writer && change.writer == *primary_writer) {
@@ -248,8 +254,16 @@ void Coordinator::State::watch_coordinators() {
     acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
         // A standby's hello (frame 0): named in every frame start from now on, until it is gone.
         if (!info.valid_data || ack.frame() != 0 || ack.coordinator() == options.id || standby != 0 ||
-            standby_dropped)
+            dropped_standby != 0)
             return;
+        if (frame > 0) {
+            // It would not hold the world's first state nor the frames before: it says so and stops.
+            spdlog::warn(
+                "coordinator {}: coordinator {} offers to stand by at frame {}: too late (a standby "
+                "must be there before frame 1)",
+                options.id, ack.coordinator(), frame);
+            return;
+        }
         standby = ack.coordinator();
         standby_writer = info.publication_handle;
         spdlog::info("coordinator {}: coordinator {} stands by; frames wait until it holds their start",
@@ -517,10 +531,9 @@ void Coordinator::State::accept(const wire::Command& c) {
 void Coordinator::State::drop_standby() {
     spdlog::warn(
         "coordinator {}: standby coordinator {} missed its liveliness lease: frames go on without it, and it "
-        "will not take over",
+        "cannot take over unless it comes back",
         options.id, standby);
-    standby = 0;
-    standby_dropped = true;
+    dropped_standby = std::exchange(standby, 0);
     if (last_go.standby() != 0) {
         last_go.standby(0);
         go_out->write(last_go);

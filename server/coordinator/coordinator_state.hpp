@@ -73,10 +73,11 @@ struct Coordinator::State {
     std::optional<std::vector<SectorKey>> first_state;
     /// Another coordinator started frames under a higher term: this one was taken over from.
     bool fenced = false;
-    /// The standby the frames wait for (named in FrameGo); 0: none. Dropped for good once its lease runs
-    /// out: a standby that missed frames no worker waited it for must not take over.
+    /// The standby the frames wait for (named in FrameGo); 0: none. Dropped when its lease runs out, and
+    /// named again if the same writer comes back (a late beat on a loaded machine): it reads every start,
+    /// and one that lost some while no frame waited for it says so and stops, never acknowledging again.
     std::uint32_t standby = 0;
-    bool standby_dropped = false;
+    std::uint32_t dropped_standby = 0;  ///< the one dropped, until it comes back
     std::optional<dds::fdds::InstanceHandle_t> standby_writer;  ///< its acknowledgements' writer
     wire::FrameGo last_go;  ///< the latest written: written again without a standby that is gone
     /// Marks of frames a coordinator wrote sector samples for (worker 0's), as a standby learns them.

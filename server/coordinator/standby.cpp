@@ -86,6 +86,17 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
                              go.frame() - 1);
                 return std::uint64_t{0};
             }
+            // Every start in order from frame 1: one missed (read too late, while no frame waited for this
+            // standby) may have carried commands and handoffs this copy of the world lacks.
+            const std::uint64_t expected = last ? last->frame() + 1 : 1;
+            if (go.frame() != expected)
+                return Error{
+                    expected == 1
+                        ? "the world already runs (frame " + std::to_string(go.frame()) +
+                              "): a standby must be there before frame 1"
+                        : "missed the start of frame " + std::to_string(expected) +
+                              " (the next read is of frame " + std::to_string(go.frame()) +
+                              ") while the coordinator went on without this standby: it cannot take over"};
             // Frame 1 starts the world from its first state: held first, whole.
             if (go.frame() == 1) {
                 bool held = first_state.has_value();

@@ -758,6 +758,14 @@ int Worker::run(const std::atomic<bool>& stop) {
                 if (s.coordinator_present()) {
                     if (!coordinator_seen) spdlog::info("worker {}: a coordinator is there, loading", id);
                     coordinator_seen = true;
+                    if (!s.heard.empty() && Clock::now() - s.join_noted > std::chrono::seconds(5)) {
+                        // Workers run frames, yet no start of one has come: say what is matched.
+                        s.join_noted = Clock::now();
+                        spdlog::warn(
+                            "worker {}: other workers run frames, but no frame start has come from a "
+                            "coordinator yet ({} frame start writers matched, {} acknowledgement writers)",
+                            id, s.go_in->matched(), s.acks_in->matched());
+                    }
                 } else if (coordinator_seen) {
                     spdlog::error("worker {}: the coordinator went away before the first frame", id);
                     return 3;

@@ -1044,6 +1044,70 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
 }
 
+TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
+    // The standby coordinator is stopped (SIGSTOP) past its 0.4 s lease, as a loaded machine or a lost beat
+    // can make it look: the coordinator goes on without it and, when it comes back, names it again in its
+    // frame starts (it read every start meanwhile). Then the coordinator is killed: the standby takes over,
+    // and every frame the client sees holds every body once, within the cluster's bound of lpss-sim.
+    const Scene scene = crossing_scene_with_far_balls();
+    const int domain = 149;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "standby_paused");
+    constexpr std::uint64_t kFrames = 900;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "watcher");
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--realtime"});
+    ASSERT_TRUE(cluster.process);
+    std::map<std::uint64_t, WorldFrame> frames;
+    collect_into(*client, frames, 60, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    const std::string standby = "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--standby'";
+    const std::string coordinator =
+        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    // Past the lease (its last beat at most 0.1 s before the stop), yet short enough that the coordinator
+    // writes fewer frame starts without it than its writer keeps (8): the standby can still read them all.
+    ASSERT_EQ(std::system(("pkill -STOP -f " + standby).c_str()), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(420));
+    ASSERT_EQ(std::system(("pkill -CONT -f " + standby).c_str()), 0);
+    const std::uint64_t resumed_at = frames.rbegin()->first;
+    collect_into(*client, frames, resumed_at + 120, std::chrono::seconds(20));
+    const std::string primary_log = read_file(cluster.log_dir + "/coordinator.log");
+    EXPECT_NE(primary_log.find("standby coordinator 2 missed its liveliness lease"), std::string::npos)
+        << "the pause went past the standby's lease";
+    EXPECT_NE(primary_log.find("standby coordinator 2 is back"), std::string::npos) << primary_log;
+    const std::uint64_t killed_at = frames.rbegin()->first;
+    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    collect_into(*client, frames, kFrames, std::chrono::seconds(60));
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    ASSERT_GT(frames.rbegin()->first, killed_at + 100) << "frames go on after the coordinator's death";
+    const SectorGrid grid(kL);
+    double worst = 0.0;
+    std::size_t after = 0;
+    for (const auto& [f, frame] : frames) {
+        const auto& expected = sim.at(f);
+        std::set<BodyId> seen;
+        for (const BodyView& b : frame.bodies) {
+            ASSERT_TRUE(seen.insert(b.id).second) << "frame " << f << ": body " << b.id << " twice";
+            ASSERT_TRUE(expected.count(b.id)) << "frame " << f << " body " << b.id;
+            worst = std::max(
+                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
+        }
+        ASSERT_EQ(frame.bodies.size(), expected.size()) << "frame " << f;
+        after += f > killed_at ? 1 : 0;
+    }
+    std::printf(
+        "standby paused after frame %llu, the coordinator killed after frame %llu; %zu frames seen "
+        "after it, largest difference from lpss-sim %.3g\n",
+        static_cast<unsigned long long>(resumed_at), static_cast<unsigned long long>(killed_at), after,
+        worst);
+    EXPECT_LE(worst, 1e-3);
+    const std::string text = read_file(cluster.log_dir + "/standby.log");
+    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+}
+
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
     // Without a standby coordinator (none is started here), when the coordinator is killed mid-run, the
     // workers must not wait in silence for ever. They find it gone when DDS drops its participant (its lease,

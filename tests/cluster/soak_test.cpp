@@ -1,0 +1,234 @@
+// The soak (label long: not in the default suite). A few thousand bodies for LPSS_SOAK_MINUTES (30 by
+// default): resting boxes, and balls bouncing between two walls across sector and worker borders for ever.
+// Every few minutes a worker is killed outright and started again under its id; halfway, the coordinator
+// is killed and its standby takes over. A client checks every frame it sees: every body once. The
+// resident memory of every process is read every 30 s (a twelfth of a shorter run): each that lives through
+// the run must end within 10% (or 8 MiB) of what it held a third of the way in.
+//   cd build && LPSS_SOAK_MINUTES=30 ctest -L long -V
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <dirent.h>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+
+#include "cluster_harness.hpp"
+#include "lpss/common/process_memory.hpp"
+#include "scenes.hpp"
+
+namespace lpss {
+namespace {
+
+using testing::connect;
+using testing::start_cluster;
+using testing::worker_process;
+using testing::write_scene;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kL = 32.0;
+
+/// 2,000 boxes at rest far from a pen where 200 balls bounce between two walls along x, for ever (no
+/// gravity, no friction, restitution 1), through the borders of the sectors and workers they cross: 2,272
+/// bodies with the walls' tiles.
+Scene soak_scene() {
+    Scene scene;
+    scene.settings.sector_size = kL;
+    scene.settings.gravity = Eigen::Vector3d::Zero();
+    scene.settings.sleeping = true;
+    BodyId id = 1;
+    // Each wall in tiles no larger than a sector (a body larger than a sector is refused).
+    for (int side = 0; side < 2; ++side) {
+        for (int j = 0; j < 6; ++j) {
+            for (int k = 0; k < 6; ++k) {
+                BodyDesc tile = scenes::box_body(
+                    id++, Eigen::Vector3d(0.5, 10, 10), 0.0,
+                    Eigen::Vector3d(side ? 100.5 : -100.5, -50.0 + 20.0 * j, -50.0 + 20.0 * k));
+                tile.material = Material{0, 1};
+                scene.bodies.push_back(tile);
+            }
+        }
+    }
+    for (int n = 0; n < 200; ++n) {
+        const double y = -50.0 + 5.0 * (n % 21), z = -50.0 + 10.0 * (n / 21);
+        BodyDesc ball = scenes::sphere_body(id++, 0.5, 1.0, Eigen::Vector3d(-90.0 + 0.9 * n, y, z));
+        ball.linear_velocity = Eigen::Vector3d((n % 2 ? -1 : 1) * (10.0 + n % 20), 0, 0);
+        ball.material = Material{0, 1};
+        scene.bodies.push_back(ball);
+    }
+    for (int n = 0; n < 2000; ++n) {
+        BodyDesc box = scenes::box_body(id++, Eigen::Vector3d::Constant(0.5), 1.0,
+                                        Eigen::Vector3d(3.0 * (n % 50), 3.0 * (n / 50), 400.0));
+        box.asleep = true;
+        scene.bodies.push_back(box);
+    }
+    return scene;
+}
+
+/// The lpss processes of a domain, by pid, with a name: "coordinator", "standby" or "worker N".
+std::map<int, std::string> processes_of(int domain) {
+    std::map<int, std::string> out;
+    DIR* proc = opendir("/proc");
+    if (proc == nullptr) return out;
+    const std::string on = "--domain\\0" + std::to_string(domain);
+    while (dirent* entry = readdir(proc)) {
+        const int pid = std::atoi(entry->d_name);
+        if (pid <= 0) continue;
+        std::ifstream in("/proc/" + std::string(entry->d_name) + "/cmdline");
+        std::vector<std::string> args;
+        for (std::string arg; std::getline(in, arg, '\0');)
+            args.push_back(arg);
+        if (args.empty()) continue;
+        auto value_of = [&](const std::string& flag) {
+            auto it = std::find(args.begin(), args.end(), flag);
+            return it != args.end() && std::next(it) != args.end() ? *std::next(it) : std::string();
+        };
+        if (value_of("--domain") != std::to_string(domain)) continue;
+        const std::string program = args[0].substr(args[0].rfind('/') + 1);
+        if (program == "lpss-worker") {
+            out[pid] = "worker " + value_of("--id");
+        } else if (program == "lpss-coordinator") {
+            out[pid] =
+                std::find(args.begin(), args.end(), "--standby") != args.end() ? "standby" : "coordinator";
+        }
+    }
+    closedir(proc);
+    return out;
+}
+
+TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
+    const char* minutes_env = std::getenv("LPSS_SOAK_MINUTES");
+    const double minutes = minutes_env ? std::atof(minutes_env) : 30.0;
+    ASSERT_GT(minutes, 0.0);
+    const auto length =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(60.0 * minutes));
+    const int domain = 160;
+    const testing::DomainCleanup cleanup(domain);
+    const Scene scene = soak_scene();
+    const std::string path = write_scene(scene, "soak");
+    auto client = connect(domain, "soak");
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(path, domain, 3, 0, {"--rebalance-every", "600"});
+    ASSERT_TRUE(cluster.process);
+
+    // The workers this test started again, by id: one that stops because it was taken as gone (exit 5: a
+    // lease missed on a loaded machine) is started again, as lpss-cluster does with its own.
+    std::map<std::uint32_t, runtime::ChildProcess> restarted;
+    std::size_t starts = 0, rejoins = 0;
+    auto start_worker = [&](std::uint32_t w) {
+        auto again = runtime::ChildProcess::start(
+            LPSS_WORKER, {"--domain", std::to_string(domain), "--id", std::to_string(w), "--threads", "1"},
+            cluster.log_dir + "/soak-worker-" + std::to_string(w) + "-" + std::to_string(++starts) + ".log");
+        if (!again) return false;
+        restarted.erase(w);
+        restarted.emplace(w, std::move(*again));
+        return true;
+    };
+    std::size_t frames_seen = 0, wrong = 0, kills = 0;
+    double longest_wait = 0.0;
+    std::uint64_t last_frame = 0;
+    std::string first_wrong;
+    // pid -> (name, samples of resident MiB taken at seconds since the start)
+    std::map<int, std::pair<std::string, std::vector<std::pair<double, double>>>> memory;
+    const auto start = Clock::now();
+    auto last_seen = start, last_sample = start;
+    const auto kill_every = length / 10;
+    // Every 30 s, or a twelfth of a short run: memory is compared a third of the way in and at the end.
+    const auto sample_every = std::min<Clock::duration>(std::chrono::seconds(30), length / 12);
+    auto next_kill = start + kill_every;
+    bool coordinator_killed = false;
+    std::uint32_t next_victim = 1;
+    while (Clock::now() - start < length) {
+        ASSERT_TRUE(cluster.process->running()) << "logs: " << cluster.log_dir;
+        for (auto& [w, process] : restarted) {
+            if (process.running() || process.exit_code() != std::optional<int>(5)) continue;
+            ++rejoins;
+            ASSERT_TRUE(start_worker(w));
+            break;  // the map changed
+        }
+        for (const WorldFrame& f : client->poll(std::chrono::milliseconds(20))) {
+            const auto now = Clock::now();
+            if (frames_seen > 0)
+                longest_wait = std::max(longest_wait, std::chrono::duration<double>(now - last_seen).count());
+            last_seen = now;
+            ++frames_seen;
+            last_frame = f.frame;
+            std::set<BodyId> ids;
+            for (const BodyView& b : f.bodies)
+                ids.insert(b.id);
+            if (ids.size() != scene.bodies.size() || f.bodies.size() != scene.bodies.size()) {
+                if (wrong++ == 0)
+                    first_wrong = "frame " + std::to_string(f.frame) + ": " +
+                                  std::to_string(f.bodies.size()) + " bodies, " + std::to_string(ids.size()) +
+                                  " distinct";
+            }
+        }
+        const auto now = Clock::now();
+        const double t = std::chrono::duration<double>(now - start).count();
+        if (now - last_sample > sample_every) {
+            last_sample = now;
+            for (const auto& [pid, name] : processes_of(domain)) {
+                if (auto use = memory_use(pid)) {
+                    auto& series = memory[pid];
+                    series.first = name;
+                    series.second.emplace_back(t, static_cast<double>(use->resident_bytes) / 1048576.0);
+                }
+            }
+        }
+        if (now >= next_kill && last_frame > 0) {
+            next_kill += kill_every;
+            if (!coordinator_killed && now - start >= length / 2) {
+                coordinator_killed = true;
+                for (const auto& [pid, name] : processes_of(domain)) {
+                    if (name == "coordinator") ::kill(pid, SIGKILL);
+                }
+                std::printf("%.0f s: the coordinator killed\n", t);
+            } else {
+                const std::uint32_t w = next_victim;
+                next_victim = next_victim % 3 + 1;
+                // (It may not be there: taken as gone on a loaded machine, it stopped, and is started below.)
+                const int killed =
+                    std::system(("pkill -KILL -f " + worker_process(domain, static_cast<int>(w))).c_str());
+                std::this_thread::sleep_for(std::chrono::seconds(3));
+                ++kills;
+                ASSERT_TRUE(start_worker(w));
+                std::printf("%.0f s: worker %u %s and started again\n", t, w,
+                            killed == 0 ? "killed" : "not there");
+            }
+            std::fflush(stdout);
+        }
+    }
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(30)), 0) << "logs: " << cluster.log_dir;
+    for (auto& [w, process] : restarted) {
+        if (!process.wait(std::chrono::seconds(10))) process.stop();
+    }
+
+    std::printf(
+        "%.1f min: %zu frames seen (the last %llu), %zu with a body missing or twice%s%s; the longest "
+        "wait for a frame %.2f s; %zu workers killed and started again, %zu taken as gone and started "
+        "again, the coordinator %s\n",
+        minutes, frames_seen, static_cast<unsigned long long>(last_frame), wrong, wrong ? ", first: " : "",
+        first_wrong.c_str(), longest_wait, kills, rejoins, coordinator_killed ? "killed once" : "not killed");
+    EXPECT_EQ(wrong, 0u) << first_wrong;
+    EXPECT_GT(frames_seen, 0u);
+    EXPECT_TRUE(coordinator_killed);
+    EXPECT_LT(longest_wait, 5.0) << "a pause beyond what a fault costs";
+    // Resident memory of each process that lived through most of the run: a third of the way in, and last.
+    std::size_t compared = 0;
+    for (const auto& [pid, series] : memory) {
+        const auto& [name, samples] = series;
+        if (samples.size() < 4 || samples.front().first > 0.2 * 60.0 * minutes) continue;
+        const auto third = std::find_if(samples.begin(), samples.end(),
+                                        [&](const auto& s) { return s.first >= 60.0 * minutes / 3.0; });
+        if (third == samples.end() || samples.back().first < 0.9 * 60.0 * minutes) continue;
+        ++compared;
+        std::printf("  %s (pid %d): %.0f MiB at %.0f s, %.0f MiB at %.0f s\n", name.c_str(), pid,
+                    third->second, third->first, samples.back().second, samples.back().first);
+        EXPECT_LE(samples.back().second, std::max(third->second * 1.10, third->second + 8.0))
+            << name << " grew";
+    }
+    EXPECT_GE(compared, 1u) << "a process lived through the run";
+}
+
+}  // namespace
+}  // namespace lpss
