@@ -179,6 +179,12 @@ void Coordinator::State::pump() {
         }
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
+        if (auto since = lost_since.find(m.worker());
+            since != lost_since.end() && info.source_timestamp.to_ns() > since->second) {
+            spdlog::warn("coordinator: worker {} wrote a mark after its lease lapsed: alive", m.worker());
+            lost.erase(m.worker());
+            lost_since.erase(since);
+        }
         reaching[m.worker()] = std::set<std::uint32_t>(m.reaching().begin(), m.reaching().end());
         if (m.frame() == 0 && m.epoch() != 0 && m.sector_reader().size() == 16) {
             dds::GuidBytes reader{};
@@ -235,8 +241,12 @@ void Coordinator::State::pump() {
         if (worker == writer_of.end()) continue;
         if (change.alive) {
             lost.erase(worker->second);
+            lost_since.erase(worker->second);
         } else {
             lost.insert(worker->second);
+            lost_since[worker->second] = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                             std::chrono::system_clock::now().time_since_epoch())
+                                             .count();
             spdlog::warn("coordinator: worker {} missed its liveliness lease", worker->second);
         }
     }
@@ -575,6 +585,7 @@ void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why)
     live.erase(w);
     // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
     lost.erase(w);
+    lost_since.erase(w);
     for (auto it = writer_of.begin(); it != writer_of.end();)
         it = it->second == w ? writer_of.erase(it) : std::next(it);
     if (live.empty()) return;

@@ -77,7 +77,7 @@ struct Coordinator::State {
     /// named again if the same writer comes back (a late beat on a loaded machine): it reads every start,
     /// and one that lost some while no frame waited for it says so and stops, never acknowledging again.
     std::uint32_t standby = 0;
-    std::uint32_t dropped_standby = 0;  ///< the one dropped, until it comes back
+    std::uint32_t dropped_standby = 0;                          ///< the one dropped, until it comes back
     std::optional<dds::fdds::InstanceHandle_t> standby_writer;  ///< its acknowledgements' writer
     wire::FrameGo last_go;  ///< the latest written: written again without a standby that is gone
     /// Marks of frames a coordinator wrote sector samples for (worker 0's), as a standby learns them.
@@ -106,6 +106,10 @@ struct Coordinator::State {
     std::map<std::uint32_t, Clock::time_point> last_heard;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
     std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
+    /// When each was found lost (system clock, ns, as DDS source timestamps): a mark it wrote later shows it
+    /// alive, should DDS not say so (seen: a standby stopped past the leases found a worker lost on waking,
+    /// and never heard it was back, though its marks kept coming; at takeover it took that worker as gone).
+    std::map<std::uint32_t, std::int64_t> lost_since;
     /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
     /// join; then, once given sectors, the frame from which they are live.
     std::set<std::uint32_t> joining;
