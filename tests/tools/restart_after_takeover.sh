@@ -1,0 +1,34 @@
+#!/bin/bash
+# Reproduces the open defect in docs/operations.md ("A worker restarted after the standby took over
+# sometimes never joins"): a 3-worker --realtime cluster, the coordinator killed before the third restart,
+# a worker killed and started again under its id N times; says for each restart whether it joined, and
+# prints the UDP ports each restarted worker bound (its participant id).
+#   unshare -rn bash -c 'ip link set lo up; tests/tools/restart_after_takeover.sh build SCENE [N]'
+# Seen with the soak test's scene (it writes /tmp/lpss_<pid>_soak.textproto): 2 to 5 of 9 restarts never
+# joined, in 2 of 6 runs.
+set -u
+build=$(cd "$1" && pwd); scene=$2; n=${3:-9}; domain=171
+logs=$(mktemp -d /tmp/lpss_restart_XXXX)
+"$build/server/lpss-cluster" "$scene" --workers 3 --domain $domain --frames 200000 --realtime --quiet \
+  > "$logs/cluster.out" 2>&1 &
+cluster=$!
+sleep 6
+for i in $(seq 1 "$n"); do
+  w=$(( (i - 1) % 3 + 1 ))
+  if [ "$i" = 3 ]; then
+    kill -KILL $(pgrep -af "[l]pss-coordinator --domain $domain" | grep -v -- --standby | cut -d' ' -f1)
+    sleep 3
+  fi
+  pkill -KILL -f "[l]pss-worker --domain $domain --id $w "
+  sleep 3
+  "$build/server/lpss-worker" --domain $domain --id $w --threads 1 > "$logs/w$i.log" 2>&1 &
+  pid=$!
+  sleep 7
+  ports=$(ss -ulpn | grep "pid=$pid," | awk '{print $4}' | tr '\n' ' ')
+  if grep -q "joins the cluster" "$logs/w$i.log"; then state=joined; else state="NOT joined"; fi
+  echo "restart $i (worker $w): $state; ports $ports"
+done
+kill $cluster; sleep 3
+pkill -KILL -f "[l]pss-.* --domain $domain"
+wait 2>/dev/null
+echo "logs: $logs"
