@@ -52,13 +52,15 @@ inline constexpr Delivery kFrameDelivery{true, 8};
 /// sector samples (another reader joined, a rebalance) loses none and need not ask for inventories again.
 inline constexpr Delivery kMarksReading{true, 120};
 /// A worker's marks, as the workers write them and the coordinator reads them: they carry the worker's
-/// liveliness, so that a worker killed or cut off is found within the lease (0.4 s), not after seconds of
-/// silence. Other readers of the marks ask for no lease and match the coordinator's marks too.
-inline constexpr Delivery kWorkerMarks{true, 8, false, 400};
+/// liveliness, so that a worker killed or cut off is found within the lease (0.3 s, and 0.1 s more to be
+/// sure: server/coordinator/confirmed_lapses.hpp), not after seconds of silence. Other readers of the marks
+/// ask for no lease and match the coordinator's marks too.
+inline constexpr Delivery kWorkerMarks{true, 8, false, 300};
 /// Frame starts as the coordinator writes them, and a standby's acknowledgements: each writer's liveliness is
-/// asserted by a thread of its own within 0.4 s, so that a standby learns within the lease that the
-/// coordinator is gone, and the coordinator that its standby is. Workers read both without a lease.
-inline constexpr Delivery kCoordinatorWords{true, 8, false, 400};
+/// asserted by a thread of its own within 0.3 s (confirmed as above), so that a standby learns within the
+/// lease that the coordinator is gone, and the coordinator that its standby is. Workers read both without a
+/// lease.
+inline constexpr Delivery kCoordinatorWords{true, 8, false, 300};
 /// Commands and sector requests: volatile, deep enough for bursts.
 inline constexpr Delivery kCommandDelivery{false, 256};
 /// Command results: durable, the last 256 per client (results are keyed by client), so that a client

@@ -1,5 +1,6 @@
 #include "lpss_dds/participant.hpp"
 
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
@@ -9,6 +10,7 @@
 #include <utility>
 
 #include "lpss_dds/sector_filters.hpp"
+#include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 
 namespace lpss::dds {
@@ -62,7 +64,22 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
     qos->name(name);
     std::unique_ptr<Participant> p(new Participant());
     p->domain_ = domain;
-    p->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos.value());
+    // Shared-memory ports no process has used since they were last cleaned (see shm_cleanup.hpp), unless
+    // the profile chose an id or uses no shared memory.
+    bool shared_memory = qos->transport().use_builtin_transports;
+    for (const auto& transport : qos->transport().user_transports)
+        shared_memory =
+            shared_memory ||
+            std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(transport);
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    if (qos->wire_protocol().participant_id < 0 && shared_memory) {
+        if (std::optional<int> id = participant_id_with_fresh_ports(domain)) {
+            fdds::DomainParticipantQos chosen = qos.value();
+            chosen.wire_protocol().participant_id = *id;
+            p->participant_ = factory->create_participant(domain, chosen);
+        }
+    }
+    if (p->participant_ == nullptr) p->participant_ = factory->create_participant(domain, qos.value());
     if (p->participant_ == nullptr)
         return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);

@@ -100,4 +100,23 @@ std::size_t remove_abandoned_shm(int domain, std::chrono::seconds min_age) {
     return removed;
 }
 
+std::optional<int> participant_id_with_fresh_ports(int domain) {
+    // RTPS well-known ports: 7400 + 250 d + 10 + 2 id (discovery), + 11 + 2 id (user data); Fast DDS names
+    // a shared-memory port after its number (fastrtps_port<N>, with _el, _sl and _mutex beside it).
+    std::set<long> taken;
+    static const std::regex port("fastrtps_port([0-9]+)(_el|_sl|_mutex)?");
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(kShmDir, error)) {
+        const std::string name = entry.path().filename().string();
+        std::smatch match;
+        if (std::regex_match(name, match, port)) taken.insert(std::stol(match[1].str()));
+    }
+    if (error) return std::nullopt;
+    const long base = 7400 + 250L * domain;
+    for (int id = 0; 11 + 2 * id < 250; ++id) {
+        if (!taken.count(base + 10 + 2 * id) && !taken.count(base + 11 + 2 * id)) return id;
+    }
+    return std::nullopt;
+}
+
 }  // namespace lpss::dds

@@ -280,7 +280,9 @@ int main(int argc, char** argv) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
             memory_seen = true;
         }
-        if (standby && !taken_over && !standby_gone && !standby->running()) {
+        // (One that ends with 0 read the coordinator's stop, as the workers do: the run is ending.)
+        if (standby && !taken_over && !standby_gone && !standby->running() &&
+            standby->exit_code().value_or(1) != 0) {
             standby_gone = true;
             fmt::print(
                 "lpss-cluster: the standby coordinator ended (exit {}): no takeover if the coordinator "

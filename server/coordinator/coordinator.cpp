@@ -223,9 +223,11 @@ void Coordinator::State::pump() {
     if (!standing_by) watch_coordinators();
     // A worker whose lease expired and that came back before it was taken as gone (a late beat on a loaded
     // machine) stays.
+    const auto now = Clock::now();
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
         if (standby_writer && change.writer == *standby_writer) {
-            standby_lost = !change.alive;
+            coordinator_lapses.reported('s', change.alive, now);
+            if (change.alive) standby_lost = false;
             if (change.alive && dropped_standby != 0) {
                 standby = std::exchange(dropped_standby, 0);
                 spdlog::warn("coordinator {}: standby coordinator {} is back: frames wait for it again",
@@ -234,21 +236,26 @@ void Coordinator::State::pump() {
             continue;
         }
         if (primary_writer && change.writer == *primary_writer) {
-            primary_lost = !change.alive;
+            coordinator_lapses.reported('p', change.alive, now);
+            if (change.alive) primary_lost = false;
             continue;
         }
         auto worker = writer_of.find(change.writer);
         if (worker == writer_of.end()) continue;
+        worker_lapses.reported(worker->second, change.alive, now);
         if (change.alive) {
             lost.erase(worker->second);
             lost_since.erase(worker->second);
-        } else {
-            lost.insert(worker->second);
-            lost_since[worker->second] = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                             std::chrono::system_clock::now().time_since_epoch())
-                                             .count();
-            spdlog::warn("coordinator: worker {} missed its liveliness lease", worker->second);
         }
+    }
+    for (char who : coordinator_lapses.confirmed(now))
+        (who == 'p' ? primary_lost : standby_lost) = true;
+    for (std::uint32_t w : worker_lapses.confirmed(now)) {
+        lost.insert(w);
+        lost_since[w] = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+        spdlog::warn("coordinator: worker {} missed its liveliness lease", w);
     }
 }
 
@@ -586,13 +593,29 @@ void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why)
     // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
     lost.erase(w);
     lost_since.erase(w);
+    worker_lapses.forget(w);
     for (auto it = writer_of.begin(); it != writer_of.end();)
         it = it->second == w ? writer_of.erase(it) : std::next(it);
     if (live.empty()) return;
     SectorAssignment fresh = balanced(members());
     fresh.epoch = next.epoch + 1;
     fresh.from_frame = f + 1;
-    const bool unfinished = !marks.count({w, f});
+    bool unfinished = !marks.count({w, f});
+    if (!unfinished && !holds_samples_of(w, f)) {
+        // Its mark came, not yet every sample it lists (other topics, other queues): those in flight come
+        // within moments, or never, from a dead writer. Without them its sectors cannot be restored as it
+        // left them (seen: a body that moved between two of its sectors missing from both), so the frame is
+        // stepped again here, as for a worker that did not end it.
+        const auto until = Clock::now() + std::chrono::milliseconds(200);
+        while (!holds_samples_of(w, f) && Clock::now() < until) {
+            inbox.wait(std::chrono::milliseconds(5));
+            pump();
+        }
+        if (!holds_samples_of(w, f)) {
+            unfinished = true;
+            spdlog::warn("coordinator: worker {} ended frame {}, but not every sample it wrote came", w, f);
+        }
+    }
     if (unfinished) {
         spdlog::error(
             "coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its "
@@ -607,6 +630,15 @@ void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why)
     }
     restore(w, f, fresh, unfinished);
     reassign(std::move(fresh), f + 1, "a worker is gone");
+}
+
+bool Coordinator::State::holds_samples_of(std::uint32_t w, std::uint64_t f) const {
+    auto mark = marks.find({w, f});
+    if (mark == marks.end()) return false;
+    for (const wire::WrittenSector& written : mark->second.written()) {
+        if (!chain.holds(dds::from_wire(written.sector()), f, ~std::uint64_t{0})) return false;
+    }
+    return true;
 }
 
 wire::SectorFrame Coordinator::State::whole_from_mirror(const SectorKey& key, std::uint64_t f) const {
@@ -670,8 +702,11 @@ void Coordinator::State::restore(std::uint32_t gone_worker, std::uint64_t f, con
         take_samples(f, lost_frame->sectors);
         for (const wire::SectorFrame& s : lost_frame->sectors)
             keys.insert(dds::from_wire(s.sector()));
-        for (const wire::CommandResult& r : lost_frame->results)
-            results_out->write(r);
+        // A worker that ended the frame answered its commands already.
+        if (!marks.count({gone_worker, f})) {
+            for (const wire::CommandResult& r : lost_frame->results)
+                results_out->write(r);
+        }
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
         spdlog::info(
             "coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} "

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "command_rate.hpp"
+#include "confirmed_lapses.hpp"
 #include "coordinator.hpp"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/body_desc.hpp"
@@ -67,7 +68,7 @@ struct Coordinator::State {
     /// Following another coordinator (options.standby, until it takes over).
     bool standing_by = false;
     std::optional<dds::fdds::InstanceHandle_t> primary_writer;  ///< the followed coordinator's frame starts
-    bool primary_lost = false;                                  ///< their liveliness lapsed
+    bool primary_lost = false;                                  ///< their liveliness lapsed (confirmed)
     bool standby_lost = false;                                  ///< the standby's acknowledgements' lapsed
     /// The sectors of the world's first state, from the coordinator's mark of frame 0 (as a standby).
     std::optional<std::vector<SectorKey>> first_state;
@@ -105,7 +106,11 @@ struct Coordinator::State {
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
-    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired
+    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired (confirmed)
+    /// Lapses reported and not yet confirmed: workers' by id, coordinators' by 'p' (the one a standby
+    /// follows) and 's' (the standby). A beat and a bit: the writers beat four times a lease.
+    ConfirmedLapses<std::uint32_t> worker_lapses{std::chrono::milliseconds(100)};
+    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(100)};
     /// When each was found lost (system clock, ns, as DDS source timestamps): a mark it wrote later shows it
     /// alive, should DDS not say so (seen: a standby stopped past the leases found a worker lost on waking,
     /// and never heard it was back, though its marks kept coming; at takeover it took that worker as gone).
@@ -199,6 +204,8 @@ struct Coordinator::State {
     /// Frames go on without a standby that is gone (its lease lapsed): the latest start is written again
     /// without it, for the workers that wait for its word.
     void drop_standby();
+    /// Whether every sector sample worker `w` lists in its mark of frame `f` is held (at f or later).
+    bool holds_samples_of(std::uint32_t w, std::uint64_t f) const;
     /// The workers a sector's samples go to under `assignment`: the owners of the neighbouring sectors its
     /// bodies come near (as a worker decides for its own sectors).
     std::vector<std::uint32_t> recipients(const SectorKey& key, const std::vector<wire::BodyState>& bodies,

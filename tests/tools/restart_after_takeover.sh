@@ -27,6 +27,12 @@ for i in $(seq 1 "$n"); do
   ports=$(ss -ulpn | grep "pid=$pid," | awk '{print $4}' | tr '\n' ' ')
   if grep -q "joins the cluster" "$logs/w$i.log"; then state=joined; else state="NOT joined"; fi
   echo "restart $i (worker $w): $state; ports $ports"
+  # Shared-memory ports each lpss process still maps though they were removed (a stale port: what it
+  # pushes there nobody reads).
+  for p in $(pgrep -f "[l]pss-(coordinator|worker) --domain $domain"); do
+    stale=$(grep -o 'fastrtps_port[0-9]* (deleted)' /proc/$p/maps 2>/dev/null | sort -u | tr '\n' ' ')
+    [ -n "$stale" ] && echo "   pid $p ($(tr '\0' ' ' < /proc/$p/cmdline | cut -c1-60)): $stale"
+  done
 done
 kill $cluster; sleep 3
 pkill -KILL -f "[l]pss-.* --domain $domain"
