@@ -32,6 +32,11 @@ Coordinator::Coordinator(std::unique_ptr<State> state) : state_(std::move(state)
 
 Coordinator::~Coordinator() {
     if (!state_) return;
+    // The beats first: each asserts a writer's liveliness from its own thread (seen under AddressSanitizer:
+    // a beat asserting a writer deleted before it).
+    state_->go_beat.reset();
+    state_->marks_beat.reset();
+    state_->acks_beat.reset();
     state_->go_out.reset();
     state_->assignment_out.reset();
     state_->planes_out.reset();
@@ -42,9 +47,6 @@ Coordinator::~Coordinator() {
     state_->marks_in.reset();
     state_->commands_in.reset();
     state_->sectors_in.reset();
-    state_->go_beat.reset();
-    state_->marks_beat.reset();
-    state_->acks_beat.reset();
     state_->go_in.reset();
     state_->acks_out.reset();
     state_->acks_in.reset();
