@@ -1066,10 +1066,16 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
     const std::string standby = "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--standby'";
     const std::string coordinator =
         "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
-    // Past the lease (its last beat at most 0.1 s before the stop), yet short enough that the coordinator
-    // writes fewer frame starts without it than its writer keeps (8): the standby can still read them all.
+    // Stopped until the coordinator drops it (its lease past and confirmed), and thawed at once: the
+    // coordinator writes a frame start or two without it, fewer than its writer keeps (8), so the standby
+    // can still read them all. (A fixed pause is either short of the lease on a slow machine or lets more
+    // than 8 starts go by.)
     ASSERT_EQ(std::system(("pkill -STOP -f " + standby).c_str()), 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(420));
+    const std::string dropped = "standby coordinator 2 missed its liveliness lease";
+    for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+         read_file(cluster.log_dir + "/coordinator.log").find(dropped) == std::string::npos &&
+         std::chrono::steady_clock::now() < until;)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
     ASSERT_EQ(std::system(("pkill -CONT -f " + standby).c_str()), 0);
     const std::uint64_t resumed_at = frames.rbegin()->first;
     collect_into(*client, frames, resumed_at + 120, std::chrono::seconds(20));
