@@ -5,7 +5,8 @@
 # prints the UDP ports each restarted worker bound (its participant id).
 #   unshare -rn bash -c 'ip link set lo up; tests/tools/restart_after_takeover.sh build SCENE [N]'
 # Seen with the soak test's scene (it writes /tmp/lpss_<pid>_soak.textproto): 2 to 5 of 9 restarts never
-# joined, in 2 of 6 runs.
+# joined, in 2 of 6 runs; since participants take fresh ports (dds::participant_id_with_fresh_ports), 18 of 18
+# restarts in two runs joined.
 set -u
 build=$(cd "$1" && pwd); scene=$2; n=${3:-9}; domain=171
 logs=$(mktemp -d /tmp/lpss_restart_XXXX)
