@@ -1,5 +1,6 @@
 #!/bin/bash
-# Reproduces a defect now fixed (docs/operations.md, "Fixed: a restarted worker that never joined"): a 3-worker --realtime cluster, the coordinator killed before the third restart,
+# Reproduces a defect now fixed (docs/operations.md, "Fixed: a restarted worker that never joined"):
+# a 3-worker --realtime cluster, the coordinator killed before the third restart,
 # a worker killed and started again under its id N times; says for each restart whether it joined, and
 # prints the UDP ports each restarted worker bound (its participant id).
 #   unshare -rn bash -c 'ip link set lo up; tests/tools/restart_after_takeover.sh build SCENE [N]'
