@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -14,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "child_process.hpp"
@@ -46,7 +49,56 @@ private:
     int domain_;
 };
 
+/// The last lines of every log of a cluster run: the files in `log_dir` and those beside it named after it
+/// (its output, workers started by the test), so that a test failing where no one kept its folder (CI) says
+/// what the processes were doing.
+inline std::string log_tails(const std::string& log_dir, std::size_t lines = 30) {
+    namespace fs = std::filesystem;
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(log_dir, ec))
+        files.push_back(e.path());
+    const fs::path dir(log_dir);
+    for (const fs::directory_entry& e : fs::directory_iterator(dir.parent_path(), ec)) {
+        const std::string name = e.path().filename().string();
+        if (e.is_regular_file() && name.rfind(dir.filename().string() + ".", 0) == 0)
+            files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    std::string out;
+    for (const fs::path& file : files) {
+        std::ifstream in(file);
+        std::vector<std::string> all;
+        for (std::string line; std::getline(in, line);)
+            all.push_back(std::move(line));
+        out += "---- " + file.string() + " (last " + std::to_string(std::min(lines, all.size())) + " of " +
+               std::to_string(all.size()) + " lines)\n";
+        for (std::size_t n = all.size() > lines ? all.size() - lines : 0; n < all.size(); ++n)
+            out += all[n] + "\n";
+    }
+    return out;
+}
+
+/// Prints the tails of a cluster's logs when it goes, if the test has failed by then.
+class LogsOnFailure {
+public:
+    explicit LogsOnFailure(std::string log_dir = {}) : log_dir_(std::move(log_dir)) {}
+    LogsOnFailure(LogsOnFailure&& other) noexcept : log_dir_(std::exchange(other.log_dir_, {})) {}
+    LogsOnFailure& operator=(LogsOnFailure&& other) noexcept {
+        log_dir_ = std::exchange(other.log_dir_, {});
+        return *this;
+    }
+    ~LogsOnFailure() {
+        if (!log_dir_.empty() && ::testing::Test::HasFailure())
+            std::printf("the cluster's logs, as the test ends:\n%s", log_tails(log_dir_).c_str());
+    }
+
+private:
+    std::string log_dir_;
+};
+
 struct ClusterRun {
+    LogsOnFailure logs;  ///< first, so that it goes last, once the processes have stopped
     std::optional<runtime::ChildProcess> process;
     std::string log_dir;
 };
@@ -71,6 +123,7 @@ inline ClusterRun start_cluster(const std::string& scene, int domain, int worker
     if (!fast) args.push_back("--realtime");
     args.insert(args.end(), extra.begin(), extra.end());
     run.process = runtime::ChildProcess::start(LPSS_CLUSTER, args, run.log_dir + ".out");
+    run.logs = LogsOnFailure(run.log_dir);
     return run;
 }
 
