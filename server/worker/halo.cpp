@@ -22,9 +22,25 @@ void add(std::vector<std::uint32_t>& workers, std::uint32_t worker) {
 }  // namespace
 
 void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
+    const bool workers_changed = current.workers != current_.workers || next.workers != next_.workers;
     current_ = current;
     next_ = next;
     largest_radius_ = largest_radius;
+    if (!workers_changed) return;
+    // A worker in neither assignment is gone: it holds nothing of this worker's any more. A worker that
+    // comes back under its id (restarted) is a new recipient, to be sent every sector it needs whole (seen:
+    // quiet sectors, never addressed again since the old one went, sent the newcomer partial samples it
+    // could not use, and its first frame started without them, a body lost).
+    for (auto it = addressed_.begin(); it != addressed_.end();) {
+        std::vector<Recipient>& to = it->second;
+        to.erase(std::remove_if(to.begin(), to.end(),
+                                [&](const Recipient& r) {
+                                    return !contains(current_.workers, r.worker) &&
+                                           !contains(next_.workers, r.worker);
+                                }),
+                 to.end());
+        it = to.empty() ? addressed_.erase(it) : std::next(it);
+    }
 }
 
 std::uint32_t Halo::near(const WorldSettings& settings, const BodySnapshot& body, double radius) const {

@@ -86,5 +86,35 @@ TEST(Halo, ABodyCrossingBetweenHeldSectorsInOneBatchStays) {
     EXPECT_NEAR(g.world.body(7)->position.local.x(), 0.01, 1e-6);
 }
 
+TEST(Halo, AWorkerGoneAndBackUnderItsIdGetsTheSectorsItNeedsWhole) {
+    // Worker 1 owns sector (0,0,0), worker 2 the sector east of it, near which a body of worker 1 rests.
+    SectorAssignment both;
+    both.epoch = 1;
+    both.block_size = 1;
+    both.workers = {1, 2};
+    both.starts = {MortonCode{}, morton_code({1, 0, 0})};
+    ASSERT_EQ(both.owner_of(kHeld), 1u);
+    ASSERT_EQ(both.owner_of(kAlsoHeld), 2u);
+    Halo halo(1);
+    halo.follow(both, both, 1.0);
+    const std::uint32_t east = 1u << (9 * 2 + 3 * 1 + 1);  // the neighbour at (+1, 0, 0)
+    Halo::Addressing first = halo.address(kHeld, east, false, 10);
+    EXPECT_TRUE(first.gained);
+    EXPECT_EQ(first.recipients, std::vector<std::uint32_t>{2});
+    // Worker 2 is gone: worker 1 takes everything. The sector is quiet, so it is not addressed again.
+    SectorAssignment alone = both.without(2, {});
+    alone.epoch = 2;
+    halo.follow(alone, alone, 1.0);
+    // Worker 2 comes back under its id and is given its sector again: at the frame before, worker 1 must
+    // send the sector it rests beside whole, as to any worker that did not hold it.
+    SectorAssignment again = both;
+    again.epoch = 3;
+    again.from_frame = 31;
+    halo.follow(alone, again, 1.0);
+    Halo::Addressing back = halo.address(kHeld, east, false, 30);
+    EXPECT_TRUE(back.gained) << "the worker back under id 2 never held it";
+    EXPECT_EQ(back.recipients, std::vector<std::uint32_t>{2});
+}
+
 }  // namespace
 }  // namespace lpss::worker
