@@ -179,8 +179,9 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
                                                                    &state->inbox);
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kMarksReading), &state->inbox);
-    state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
-        p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
+    state->assignment_in =
+        std::make_unique<Reader<wire::Assignment>>(p, p.topic<wire::AssignmentPubSubType>(kSectorOwners),
+                                                   reader_qos(kAssignmentDelivery), &state->inbox);
     state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
         &state->inbox);

@@ -65,4 +65,38 @@ SectorAssignment SectorAssignment::balanced(const std::vector<std::pair<SectorKe
     return out;
 }
 
+SectorAssignment SectorAssignment::without(std::uint32_t worker,
+                                           const std::vector<std::pair<SectorKey, double>>& loads) const {
+    const auto found = std::find(workers.begin(), workers.end(), worker);
+    if (found == workers.end() || workers.size() < 2) return *this;
+    const std::size_t n = static_cast<std::size_t>(found - workers.begin());
+    SectorAssignment out = *this;
+    if (n > 0 && n + 1 < workers.size()) {
+        // Between two neighbours: the one before takes the range up to where half its load lies, the one
+        // after the rest. A range without load goes to the one before.
+        std::map<MortonCode, double> blocks;
+        double total = 0.0;
+        for (const auto& [sector, load] : loads) {
+            const MortonCode code = morton_code(block_of(sector, block_size));
+            if (code < starts[n] || !(code < starts[n + 1])) continue;
+            blocks[code] += load;
+            total += load;
+        }
+        MortonCode cut = starts[n + 1];
+        double taken = 0.0;
+        for (const auto& [code, load] : blocks) {
+            if (taken > 0.0 && taken >= total / 2.0) {
+                cut = code;
+                break;
+            }
+            taken += load;
+        }
+        out.starts[n + 1] = cut;
+    }
+    out.workers.erase(out.workers.begin() + static_cast<std::ptrdiff_t>(n));
+    out.starts.erase(out.starts.begin() + static_cast<std::ptrdiff_t>(n));
+    out.starts.front() = MortonCode{};  // the first range starts where the curve does
+    return out;
+}
+
 }  // namespace lpss

@@ -179,6 +179,12 @@ public:
                eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
     }
     int matched() const { return matched_.load(); }
+    /// Whether every matched reader acknowledged what was written, within `limit`: what a writer that is
+    /// about to go must wait for (reliable delivery ends with its participant).
+    bool delivered(std::chrono::milliseconds limit) {
+        return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(limit.count() / 1000.0)) ==
+               eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    }
     /// Readers matched since the last call (a late joiner to serve).
     int take_new_matches() { return new_matches_.exchange(0); }
     /// Whether this writer has matched the reader with this GUID (see guid_bytes): what it writes now

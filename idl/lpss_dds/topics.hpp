@@ -2,6 +2,8 @@
 // the same as a table).
 #pragma once
 
+#include <chrono>
+
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -29,8 +31,13 @@ struct Delivery {
     int lease_ms = 0;
 };
 
-/// Body descriptions and assignments: durable, the latest sample per instance; descriptions are disposed.
+/// Body descriptions and the cluster's status: durable, the latest sample per instance; descriptions are
+/// disposed.
 inline constexpr Delivery kStateDelivery{true, 1, true};
+/// Assignments: durable, the last 16 of each coordinator. A reader must learn every assignment of the frames
+/// it shows, not only the latest: two written a few frames apart (a worker gone, then one joining) left a
+/// reader of depth 1 that took the second without the first, waiting for a gone worker's end of a frame.
+inline constexpr Delivery kAssignmentDelivery{true, 16};
 /// Sector frames as a worker writes them: all in one instance (idl/lpss.idl), its last 2048 samples kept,
 /// oldest out first, so that its history has no holes (see SectorFrame). A partial sample is of use only on
 /// the sample before it: a reader that lost one (a shared-memory port full while it was busy) gets it
@@ -52,7 +59,7 @@ inline constexpr Delivery kFrameDelivery{true, 8};
 /// sector samples (another reader joined, a rebalance) loses none and need not ask for inventories again.
 inline constexpr Delivery kMarksReading{true, 120};
 /// A worker's marks, as the workers write them and the coordinator reads them: they carry the worker's
-/// liveliness, so that a worker killed or cut off is found within the lease (0.3 s, and 0.1 s more to be
+/// liveliness, so that a worker killed or cut off is found within the lease (0.3 s, and 0.15 s more to be
 /// sure: server/coordinator/confirmed_lapses.hpp), not after seconds of silence. Other readers of the marks
 /// ask for no lease and match the coordinator's marks too.
 inline constexpr Delivery kWorkerMarks{true, 8, false, 300};
@@ -67,6 +74,14 @@ inline constexpr Delivery kCommandDelivery{false, 256};
 /// whose reader a worker matched only after answering still gets the answer (seen: a spawn's answer lost
 /// to discovery that had matched one side only).
 inline constexpr Delivery kResultDelivery{true, 256};
+
+/// How often a writer with a lease asserts its liveliness (LivelinessBeat): six times a lease. Fast DDS 2.9
+/// at times reports a live writer lapsed when another's lease runs out, and takes it back at its next beat
+/// (server/coordinator/confirmed_lapses.hpp): the sooner that beat, the less a loaded machine must delay it
+/// for the lapse to be confirmed falsely.
+inline constexpr std::chrono::milliseconds beat_period(const Delivery& delivery) {
+    return std::chrono::milliseconds(delivery.lease_ms / 6);
+}
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(const Delivery& delivery);
 eprosima::fastdds::dds::DataReaderQos reader_qos(const Delivery& delivery);

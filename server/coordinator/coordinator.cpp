@@ -78,8 +78,9 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         std::make_unique<Reader<wire::FrameAck>>(p, acks, reader_qos(kCoordinatorWords), &state->inbox);
     if (options.standby) {
         state->acks_out = std::make_unique<Writer<wire::FrameAck>>(p, acks, writer_qos(kCoordinatorWords));
-        state->assignment_in = std::make_unique<Reader<wire::Assignment>>(
-            p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), reader_qos(kStateDelivery), &state->inbox);
+        state->assignment_in =
+            std::make_unique<Reader<wire::Assignment>>(p, p.topic<wire::AssignmentPubSubType>(kSectorOwners),
+                                                       reader_qos(kAssignmentDelivery), &state->inbox);
         state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
             p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
             &state->inbox);
@@ -91,7 +92,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
             return Error{"cannot create the standby coordinator's DDS readers and writers"};
     }
     state->assignment_out = std::make_unique<Writer<wire::Assignment>>(
-        p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), writer_qos(kStateDelivery));
+        p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), writer_qos(kAssignmentDelivery));
     state->planes_out = std::make_unique<Writer<wire::BodyDescription>>(
         p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), writer_qos(kStateDelivery));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
@@ -116,14 +117,12 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
     }
-    // Four beats a lease, as workers' marks: a standby takes over when the coordinator's lapse.
-    state->marks_beat = std::make_unique<LivelinessBeat>(
-        state->marks_out->raw(), std::chrono::milliseconds(kWorkerMarks.lease_ms / 4));
-    state->go_beat = std::make_unique<LivelinessBeat>(
-        state->go_out->raw(), std::chrono::milliseconds(kCoordinatorWords.lease_ms / 4));
+    // Beats within the lease, as workers' marks: a standby takes over when the coordinator's lapse.
+    state->marks_beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(), beat_period(kWorkerMarks));
+    state->go_beat = std::make_unique<LivelinessBeat>(state->go_out->raw(), beat_period(kCoordinatorWords));
     if (options.standby) {
-        state->acks_beat = std::make_unique<LivelinessBeat>(
-            state->acks_out->raw(), std::chrono::milliseconds(kCoordinatorWords.lease_ms / 4));
+        state->acks_beat =
+            std::make_unique<LivelinessBeat>(state->acks_out->raw(), beat_period(kCoordinatorWords));
     } else {
         state->status("loading", 0.0, 0);
     }
@@ -181,8 +180,11 @@ void Coordinator::State::pump() {
         }
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
-        if (auto since = lost_since.find(m.worker());
-            since != lost_since.end() && info.source_timestamp.to_ns() > since->second) {
+        // Its hello before the world runs, or a mark of a frame: not a newcomer's hello or ask to join.
+        if (m.frame() > 0 || frame == 0) running_writer[m.worker()] = info.publication_handle;
+        if (auto since = lost_since.find(m.worker()); since != lost_since.end() &&
+                                                      since->second.writer == info.publication_handle &&
+                                                      info.source_timestamp.to_ns() > since->second.at_ns) {
             spdlog::warn("coordinator: worker {} wrote a mark after its lease lapsed: alive", m.worker());
             lost.erase(m.worker());
             lost_since.erase(since);
@@ -244,19 +246,25 @@ void Coordinator::State::pump() {
         }
         auto worker = writer_of.find(change.writer);
         if (worker == writer_of.end()) continue;
-        worker_lapses.reported(worker->second, change.alive, now);
-        if (change.alive) {
+        worker_lapses.reported(change.writer, change.alive, now);
+        if (auto since = lost_since.find(worker->second);
+            change.alive && since != lost_since.end() && since->second.writer == change.writer) {
             lost.erase(worker->second);
-            lost_since.erase(worker->second);
+            lost_since.erase(since);
         }
     }
     for (char who : coordinator_lapses.confirmed(now))
         (who == 'p' ? primary_lost : standby_lost) = true;
-    for (std::uint32_t w : worker_lapses.confirmed(now)) {
+    for (const dds::fdds::InstanceHandle_t& writer : worker_lapses.confirmed(now)) {
+        auto worker = writer_of.find(writer);
+        if (worker == writer_of.end()) continue;
+        const std::uint32_t w = worker->second;
+        auto running = running_writer.find(w);
+        if (running != running_writer.end() && running->second != writer) continue;  // not the one running
         lost.insert(w);
-        lost_since[w] = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                            std::chrono::system_clock::now().time_since_epoch())
-                            .count();
+        lost_since[w] = Lapse{writer, std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                          std::chrono::system_clock::now().time_since_epoch())
+                                          .count()};
         spdlog::warn("coordinator: worker {} missed its liveliness lease", w);
     }
 }
@@ -561,20 +569,38 @@ void Coordinator::State::drop_standby() {
 
 bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop) {
     // Every live worker's end of frame f. A worker whose liveliness lease expired (killed, or cut off), or
-    // that is silent for too long (alive but stuck), is taken as gone: the frame it did not finish is
-    // stepped here, and its sectors go to the others.
+    // that is silent for too long (alive but stuck), is taken as gone; once the others have ended the frame,
+    // the frame it did not finish is stepped here and its sectors go to the others (restore_gone).
     for (;;) {
         pump();
         if (fenced) return false;
         if (standby != 0 && standby_lost) drop_standby();
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
-            if (lost.count(w)) gone(w, f, "its liveliness lease expired");
+            if (!lost.count(w)) continue;
+            // Not the last one: every worker's lease lapsing is a machine starved (seen, with three
+            // clusters on two cores, both workers and the standby within 80 ms, all alive), and taking
+            // them all as gone ends the world. The last waits for silence (worker_timeout) instead.
+            if (live.size() == 1) {
+                if (!last_lapse_noted) {
+                    last_lapse_noted = true;
+                    spdlog::warn(
+                        "coordinator: worker {}, the last live one, missed its liveliness lease: taken as "
+                        "gone "
+                        "only after {} s of silence",
+                        w, options.worker_timeout.count() / 1000.0);
+                }
+                continue;
+            }
+            take_as_gone(w, "its liveliness lease expired");
         }
         if (live.empty()) return false;
         bool all = true;
         for (std::uint32_t w : live)
             all = all && marks.count({w, f});
-        if (all) return true;
+        if (all) {
+            if (!going.empty()) restore_gone(f);
+            return true;
+        }
         if (stop.load()) return false;
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (marks.count({w, f})) continue;
@@ -582,56 +608,30 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
             // as long as the workers take to build the world.
             const auto since = std::max(last_heard[w], frame_started);
             if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout))
-                gone(w, f, "it stopped answering");
+                take_as_gone(w, "it stopped answering");
         }
         if (live.empty()) return false;
         inbox.wait(std::chrono::milliseconds(5));
     }
 }
 
-void Coordinator::State::gone(std::uint32_t w, std::uint64_t f, const char* why) {
-    const double into_frame = seconds_since(frame_started);
+void Coordinator::State::take_as_gone(std::uint32_t w, const char* why) {
     live.erase(w);
+    going.emplace(w, Going{why, seconds_since(frame_started)});
     // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
     lost.erase(w);
     lost_since.erase(w);
-    worker_lapses.forget(w);
-    for (auto it = writer_of.begin(); it != writer_of.end();)
-        it = it->second == w ? writer_of.erase(it) : std::next(it);
-    if (live.empty()) return;
-    SectorAssignment fresh = balanced(members());
-    fresh.epoch = next.epoch + 1;
-    fresh.from_frame = f + 1;
-    bool unfinished = !marks.count({w, f});
-    if (!unfinished && !holds_samples_of(w, f)) {
-        // Its mark came, not yet every sample it lists (other topics, other queues): those in flight come
-        // within moments, or never, from a dead writer. Without them its sectors cannot be restored as it
-        // left them (seen: a body that moved between two of its sectors missing from both), so the frame is
-        // stepped again here, as for a worker that did not end it.
-        const auto until = Clock::now() + std::chrono::milliseconds(200);
-        while (!holds_samples_of(w, f) && Clock::now() < until) {
-            inbox.wait(std::chrono::milliseconds(5));
-            pump();
+    running_writer.erase(w);
+    for (auto it = writer_of.begin(); it != writer_of.end();) {
+        if (it->second != w) {
+            ++it;
+            continue;
         }
-        if (!holds_samples_of(w, f)) {
-            unfinished = true;
-            spdlog::warn("coordinator: worker {} ended frame {}, but not every sample it wrote came", w, f);
-        }
+        worker_lapses.forget(it->first);
+        it = writer_of.erase(it);
     }
-    if (unfinished) {
-        spdlog::error(
-            "coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its "
-            "sectors go to the others",
-            w, f, why, into_frame);
-    } else {
-        // It ended the frame before it went: its samples and requests of the frame stand.
-        gone_after_ending.insert(w);
-        spdlog::error(
-            "coordinator: worker {} is gone after ending frame {} ({}); its sectors go to the others", w, f,
-            why);
-    }
-    restore(w, f, fresh, unfinished);
-    reassign(std::move(fresh), f + 1, "a worker is gone");
+    spdlog::warn("coordinator: worker {} is taken as gone during frame {} ({}, {:.2f} s into the frame)", w,
+                 frame, why, seconds_since(frame_started));
 }
 
 bool Coordinator::State::holds_samples_of(std::uint32_t w, std::uint64_t f) const {
@@ -659,80 +659,150 @@ wire::SectorFrame Coordinator::State::whole_from_mirror(const SectorKey& key, st
     return sample;
 }
 
-void Coordinator::State::restore(std::uint32_t gone_worker, std::uint64_t f, const SectorAssignment& fresh,
-                                 bool unfinished) {
-    // The frame the worker did not finish, stepped here from the world as every body was last published
-    // (frame f - 1: everything received of it), with the handoffs and commands of frame f; then its
-    // sectors, at frame f, go to their new owners and holders.
+void Coordinator::State::restore_gone(std::uint64_t f) {
+    // Once every live worker has ended frame f: the workers taken as gone during it, all at once (two gone
+    // in one frame, restored one after the other, sent the first one's sectors to the second).
     const auto started = Clock::now();
-    std::set<SectorKey> keys, around;
-    if (!unfinished) {
-        take_samples(f);
-        for (const auto& [key, bodies] : mirror.sectors()) {
-            if (current.owner_of(key) == gone_worker) keys.insert(key);
+    std::set<std::uint32_t> unfinished;
+    std::string names;
+    for (const auto& [w, going_why] : going) {
+        names += (names.empty() ? "" : ", ") + std::to_string(w);
+        bool ended = marks.count({w, f}) != 0;
+        if (ended && !holds_samples_of(w, f)) {
+            // Its mark came, not yet every sample it lists (other topics, other queues): those in flight
+            // come within moments, or never, from a dead writer. Without them its sectors cannot be restored
+            // as it left them (seen: a body that moved between two of its sectors missing from both), so the
+            // frame is stepped again here, as for a worker that did not end it.
+            const auto until = Clock::now() + std::chrono::milliseconds(200);
+            while (!holds_samples_of(w, f) && Clock::now() < until) {
+                inbox.wait(std::chrono::milliseconds(5));
+                pump();
+            }
+            if (!holds_samples_of(w, f)) {
+                ended = false;
+                spdlog::warn("coordinator: worker {} ended frame {}, but not every sample it wrote came", w,
+                             f);
+            }
         }
-        send_restored(gone_worker, f, fresh, keys, started);
-        return;
+        if (ended) {
+            // Its samples and requests of the frame stand.
+            gone_after_ending.insert(w);
+            spdlog::error(
+                "coordinator: worker {} is gone after ending frame {} ({}); its sectors go to the others", w,
+                f, going_why.why);
+        } else {
+            unfinished.insert(w);
+            spdlog::error(
+                "coordinator: worker {} is gone during frame {} ({}, {:.2f} s into the frame); its sectors "
+                "go "
+                "to the others",
+                w, f, going_why.why, going_why.into_frame);
+        }
     }
+    // The frames they did not finish, each stepped here from the world as every body was last published
+    // (frame f - 1: everything received of it), with the handoffs and commands of frame f.
     take_samples(f - 1);
-    for (const auto& [key, bodies] : mirror.sectors()) {
-        if (current.owner_of(key) != gone_worker) continue;
-        keys.insert(key);
-        for (std::int64_t i = -1; i <= 1; ++i)
-            for (std::int64_t j = -1; j <= 1; ++j)
-                for (std::int64_t k = -1; k <= 1; ++k) {
-                    const SectorKey near = key + SectorKey{i, j, k};
-                    if (mirror.sectors().count(near)) around.insert(near);
-                }
-    }
-    worker::LostFrameInput in;
-    in.settings = settings;
-    in.assignment = current;
-    in.largest_radius = largest_radius;
-    in.worker = gone_worker;
-    in.frame = f;
-    for (const SectorKey& key : around)
-        in.sectors.push_back(whole_from_mirror(key, f - 1));
-    for (const auto& [id, plane] : planes)
-        in.planes.push_back(plane);
-    in.handoffs = in_flight;
-    in.commands = commands_in_flight;
-    in.command_order = command_order_in_flight;
-    Expected<worker::LostFrame> lost_frame = worker::step_lost_frame(in);
-    in = {};
-    if (lost_frame) {
-        take_samples(f, lost_frame->sectors);
-        for (const wire::SectorFrame& s : lost_frame->sectors)
-            keys.insert(dds::from_wire(s.sector()));
+    std::vector<wire::SectorFrame> stepped;
+    std::set<SectorKey> keys;
+    std::vector<std::uint32_t> not_stepped;
+    for (std::uint32_t w : unfinished) {
+        const auto step_start = Clock::now();
+        std::set<SectorKey> own, around;
+        for (const auto& [key, bodies] : mirror.sectors()) {
+            if (current.owner_of(key) != w) continue;
+            own.insert(key);
+            for (std::int64_t i = -1; i <= 1; ++i)
+                for (std::int64_t j = -1; j <= 1; ++j)
+                    for (std::int64_t k = -1; k <= 1; ++k) {
+                        const SectorKey near = key + SectorKey{i, j, k};
+                        if (mirror.sectors().count(near)) around.insert(near);
+                    }
+        }
+        worker::LostFrameInput in;
+        in.settings = settings;
+        in.assignment = current;
+        in.largest_radius = largest_radius;
+        in.worker = w;
+        in.frame = f;
+        for (const SectorKey& key : around)
+            in.sectors.push_back(whole_from_mirror(key, f - 1));
+        for (const auto& [id, plane] : planes)
+            in.planes.push_back(plane);
+        in.handoffs = in_flight;
+        in.commands = commands_in_flight;
+        in.command_order = command_order_in_flight;
+        Expected<worker::LostFrame> lost_frame = worker::step_lost_frame(in);
+        in = {};
+        if (!lost_frame) {
+            spdlog::error(
+                "coordinator: the frame worker {} did not finish cannot be stepped again ({}); its bodies "
+                "are "
+                "restored as last published",
+                w, lost_frame.error().message);
+            not_stepped.push_back(w);
+            continue;
+        }
+        for (wire::SectorFrame& sample : lost_frame->sectors) {
+            keys.insert(dds::from_wire(sample.sector()));
+            stepped.push_back(std::move(sample));
+        }
         // A worker that ended the frame answered its commands already.
-        if (!marks.count({gone_worker, f})) {
+        if (!marks.count({w, f})) {
             for (const wire::CommandResult& r : lost_frame->results)
                 results_out->write(r);
         }
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
         spdlog::info(
-            "coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} "
-            "sectors around them, {:.3f} s",
-            f, gone_worker, lost_frame->bodies, lost_frame->sectors.size(), around.size(),
-            seconds_since(started));
-    } else {
-        // Its bodies lose frame f's motion: restored as last published, and those handed to it at frame f
-        // (its samples never showed them) from their grants.
-        spdlog::error(
-            "coordinator: the frame worker {} did not finish cannot be stepped again ({}); its "
-            "bodies are restored as last published",
-            gone_worker, lost_frame.error().message);
-        take_samples(f);
+            "coordinator: frame {} of worker {} stepped again here: {} bodies in {} sectors, {} sectors "
+            "around "
+            "them, {:.3f} s",
+            f, w, lost_frame->bodies, own.size(), around.size(), seconds_since(step_start));
+    }
+    take_samples(f, stepped);
+    // Not stepped: its bodies lose frame f's motion, restored as last published, and those handed to it at
+    // frame f (its samples never showed them) from their grants.
+    for (std::uint32_t w : not_stepped) {
         for (const wire::Handoff& h : in_flight) {
-            if (h.to_worker() == gone_worker) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
+            if (h.to_worker() == w) mirror.insert(dds::from_wire(h.sector()), h.state(), h.kind());
         }
     }
-    send_restored(gone_worker, f, fresh, keys, started);
+    // The gone workers' ranges go to their neighbours on the curve. The live workers keep every sector they
+    // have: a change from frame f + 1 is learnt at its start, too late for an owner to send a sector away
+    // whole, so a sector moved between live workers here would reach its new owner empty. A change already
+    // under way from f + 1 (announced with frame f, sent whole at f) goes on; one from a later frame is
+    // dropped, and the workers it was to admit are admitted again later.
+    SectorAssignment base = current;
+    if (next.epoch != current.epoch) {
+        if (next.from_frame <= f + 1) {
+            base = next;
+        } else {
+            spdlog::warn("coordinator: the assignment of epoch {} from frame {} is dropped: a worker is gone",
+                         next.epoch, next.from_frame);
+            for (const auto& [w, from] : admitted) {
+                joining.insert(w);
+                joining_since[w] = Clock::now();
+            }
+            admitted.clear();
+        }
+    }
+    std::vector<std::pair<SectorKey, double>> loads;
+    for (const auto& [key, bodies] : mirror.sectors())
+        loads.push_back({key, static_cast<double>(bodies.size())});
+    SectorAssignment fresh = base;
+    for (const auto& [w, going_why] : going)
+        fresh = fresh.without(w, loads);
+    // Every sector a gone worker owned, or was to own from f + 1, whole at frame f to its holders under the
+    // new assignment.
+    for (const auto& [key, bodies] : mirror.sectors()) {
+        if (going.count(current.owner_of(key)) || going.count(base.owner_of(key))) keys.insert(key);
+    }
+    going.clear();
+    send_restored(f, fresh, keys, started);
+    reassign(std::move(fresh), f + 1, ("worker(s) " + names + " gone").c_str());
 }
 
-void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t f,
-                                       const SectorAssignment& fresh, const std::set<SectorKey>& keys,
-                                       Clock::time_point started) {
+void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& fresh,
+                                       const std::set<SectorKey>& keys, Clock::time_point started) {
     wire::WorkerFrame restored;
     restored.worker(0);
     restored.frame(f);
@@ -757,9 +827,8 @@ void Coordinator::State::send_restored(std::uint32_t gone_worker, std::uint64_t 
     marks_out->write(restored);
     wrote_sectors = true;
     spdlog::info(
-        "coordinator: {} bodies in {} sectors of worker {} sent to their new owners, {:.3f} s after it "
-        "was found gone",
-        bodies, keys.size(), gone_worker, seconds_since(started));
+        "coordinator: {} bodies in {} sectors sent to their new owners, {:.3f} s after the frame ended",
+        bodies, keys.size(), seconds_since(started));
 }
 
 void Coordinator::State::collect_handoffs(std::uint64_t f) {
@@ -936,8 +1005,14 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             if (finished) {
                 spdlog::info("coordinator: stopping after frame {} ({} handoffs)", f - 1, s.handoffs);
                 s.status("stopped", 0.0, s.statics.size());
-                // Give the workers a moment to read the stop before this participant goes.
-                std::this_thread::sleep_for(std::chrono::milliseconds(300));
+                // The workers must read the stop before this participant goes (a fixed 0.3 s was too short on
+                // a loaded machine: workers that never read it waited for a coordinator that was gone). A
+                // reader killed earlier stays matched until its participant's lease runs out, and never
+                // acknowledges: the wait is bounded.
+                if (!s.go_out->delivered(std::chrono::seconds(1)))
+                    spdlog::info(
+                        "coordinator: not every reader of frame starts acknowledged the stop within 1 s "
+                        "(one killed earlier stays matched for a while)");
                 return 0;
             }
             s.in_flight = std::move(s.grants);

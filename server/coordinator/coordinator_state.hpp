@@ -106,15 +106,25 @@ struct Coordinator::State {
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
-    std::set<std::uint32_t> lost;  ///< workers whose liveliness lease expired (confirmed)
-    /// Lapses reported and not yet confirmed: workers' by id, coordinators' by 'p' (the one a standby
-    /// follows) and 's' (the standby). A beat and a bit: the writers beat four times a lease.
-    ConfirmedLapses<std::uint32_t> worker_lapses{std::chrono::milliseconds(100)};
-    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(100)};
-    /// When each was found lost (system clock, ns, as DDS source timestamps): a mark it wrote later shows it
-    /// alive, should DDS not say so (seen: a standby stopped past the leases found a worker lost on waking,
-    /// and never heard it was back, though its marks kept coming; at takeover it took that worker as gone).
-    std::map<std::uint32_t, std::int64_t> lost_since;
+    /// Each worker's marks writer that runs its frames (its hello at the start, then its marks of frames):
+    /// a worker restarted under the id of one that is gone writes with another, whose ask to join must not
+    /// be taken for the old one's liveliness, nor the old one's lapse for the new one's.
+    std::map<std::uint32_t, dds::fdds::InstanceHandle_t> running_writer;
+    std::set<std::uint32_t> lost;  ///< workers whose running writer's liveliness lease expired (confirmed)
+    /// Lapses reported and not yet confirmed: workers' by marks writer, coordinators' by 'p' (the one a
+    /// standby follows) and 's' (the standby). Three beats of the writers (beat_period).
+    ConfirmedLapses<dds::fdds::InstanceHandle_t> worker_lapses{std::chrono::milliseconds(150)};
+    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(150)};
+    /// When each was found lost (system clock, ns, as DDS source timestamps), and its marks' writer then: a
+    /// mark that writer wrote later shows it alive, should DDS not say so (seen: a standby stopped past the
+    /// leases found a worker lost on waking, and never heard it was back, though its marks kept coming; at
+    /// takeover it took that worker as gone). Another writer of the same id is a worker restarted under it:
+    /// its hello says nothing of the one that was lost.
+    struct Lapse {
+        dds::fdds::InstanceHandle_t writer;
+        std::int64_t at_ns = 0;
+    };
+    std::map<std::uint32_t, Lapse> lost_since;
     /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
     /// join; then, once given sectors, the frame from which they are live.
     std::set<std::uint32_t> joining;
@@ -167,9 +177,18 @@ struct Coordinator::State {
     void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
     /// A complete sample of a sector as the copy of the world holds it, as worker 0.
     wire::SectorFrame whole_from_mirror(const SectorKey& key, std::uint64_t f) const;
-    void gone(std::uint32_t w, std::uint64_t f, const char* why);
-    void send_restored(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh,
-                       const std::set<SectorKey>& keys, Clock::time_point started);
+    /// Takes a worker as gone now; what it leaves is restored once the frame has ended (restore_gone).
+    void take_as_gone(std::uint32_t w, const char* why);
+    /// Workers taken as gone during the frame being waited for: why, and how far into the frame.
+    struct Going {
+        const char* why = "";
+        double into_frame = 0.0;
+    };
+    std::map<std::uint32_t, Going> going;
+    bool last_lapse_noted = false;  ///< the last live worker's lapse was logged (once)
+    /// Sends sectors as of frame f, whole, to their holders under `fresh`.
+    void send_restored(std::uint64_t f, const SectorAssignment& fresh, const std::set<SectorKey>& keys,
+                       Clock::time_point started);
     void accept_commands();
     /// Accepts one command for the next frame, or refuses it with the reason.
     void accept(const wire::Command& c);
@@ -186,9 +205,10 @@ struct Coordinator::State {
     void refuse(const wire::Command& c, const std::string& reason);
     bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
     void collect_handoffs(std::uint64_t f);
-    /// Sends the sectors of a worker that is gone, as of frame f, to their holders under `fresh`; when it did
-    /// not finish frame f (`unfinished`), that frame is stepped again here first.
-    void restore(std::uint32_t gone, std::uint64_t f, const SectorAssignment& fresh, bool unfinished);
+    /// Once every live worker has ended frame f: the frames the workers taken as gone did not finish,
+    /// stepped again here, and every sector they owned (or were to own from f + 1) sent whole to its
+    /// holders under an assignment that gives their ranges to their neighbours on the curve, from f + 1.
+    void restore_gone(std::uint64_t f);
     SectorAssignment balanced(const std::set<std::uint32_t>& workers) const;
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);

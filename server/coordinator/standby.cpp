@@ -81,7 +81,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
         while (!starts.empty()) {
             const wire::FrameGo& go = starts.begin()->second;
             if (go.stop()) {
-                if (go.standby() == options.id) acknowledge(go.frame());  // the workers wait for it to stop
+                if (go.standby() == options.id) acknowledge(go.frame());  // (workers stop without it)
                 spdlog::info("coordinator {}: the coordinator stopped the cluster after frame {}", options.id,
                              go.frame() - 1);
                 return std::uint64_t{0};

@@ -33,7 +33,10 @@ void FrameGate::take_mark(const wire::WorkerFrame& mark) {
 const wire::FrameGo* FrameGate::go(std::uint64_t frame) const {
     auto it = gos_.find(frame);
     if (it == gos_.end()) return nullptr;
-    if (const std::uint32_t standby = it->second.standby(); standby != 0) {
+    // A stop does not wait for the standby: there is no frame for it to take over (seen: a standby that
+    // acknowledged the stop and ended at once, its acknowledgement never reaching two workers, which waited
+    // for a coordinator that was gone).
+    if (const std::uint32_t standby = it->second.standby(); standby != 0 && !it->second.stop()) {
         auto acked = acked_.find(standby);
         if (acked == acked_.end() || acked->second < frame) return nullptr;
     }

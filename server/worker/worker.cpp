@@ -218,9 +218,8 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
         !state->planes_in->ok() || !state->requests_in->ok() || !state->requests_out->ok()) {
         return Error{"cannot create the worker's DDS readers and writers"};
     }
-    // Four times a lease: a late beat or two does not make a worker look gone.
-    state->beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(),
-                                                   std::chrono::milliseconds(kWorkerMarks.lease_ms / 4));
+    // Several beats a lease: a late beat or two does not make a worker look gone.
+    state->beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(), beat_period(kWorkerMarks));
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
 }
 
@@ -401,7 +400,10 @@ std::vector<std::pair<std::uint64_t, BodyDesc>> Worker::State::take_early_planes
 
 Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
     const SectorAssignment announced = dds::from_wire(latest.next());
-    if (announced.epoch == latest.epoch()) {
+    const bool given =
+        asked_to_join && announced.epoch != joined_from.epoch &&
+        std::find(announced.workers.begin(), announced.workers.end(), options.id) != announced.workers.end();
+    if (announced.epoch == latest.epoch() && !given) {
         // No change under way: ask, once for each assignment seen in force (an answer may be a change made
         // for another reason, such as a worker gone, that leaves this one out).
         if (asked_to_join && joined_from.epoch == announced.epoch) return Joining::waiting;
@@ -447,10 +449,11 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
         marks_out->write(ask);
         return Joining::waiting;
     }
-    if (!asked_to_join) return Joining::waiting;
-    if (std::find(announced.workers.begin(), announced.workers.end(), options.id) == announced.workers.end())
-        return Joining::waiting;
-    if (announced.from_frame <= latest.frame()) {
+    if (!given) return Joining::waiting;
+    // Given sectors from a later frame, whose owners send them whole at the frame before; or from the latest
+    // frame, whose start came before this worker read the one that announced it (two starts in one read):
+    // it has not started here yet, and the whole samples of the frame before are on their way.
+    if (announced.from_frame < latest.frame()) {
         spdlog::error("worker {}: given sectors from frame {}, but frame {} has started already", options.id,
                       announced.from_frame, latest.frame());
         return Joining::failed;

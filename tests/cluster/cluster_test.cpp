@@ -315,7 +315,7 @@ public:
             &inbox_);
         owners_ = std::make_unique<dds::Reader<wire::Assignment>>(
             part, part.topic<wire::AssignmentPubSubType>(dds::kSectorOwners),
-            dds::reader_qos(dds::kStateDelivery), &inbox_);
+            dds::reader_qos(dds::kAssignmentDelivery), &inbox_);
         requests_ = std::make_unique<dds::Writer<wire::SectorRequest>>(
             part, part.topic<wire::SectorRequestPubSubType>(dds::kSectorRequests),
             dds::writer_qos(dds::kCommandDelivery));
@@ -336,14 +336,23 @@ public:
             if (chain_.stale(f)) return;
             if (!f.complete()) ++partial;
             const SectorKey key = dds::from_wire(f.sector());
+            // A sector breaks at its first refused sample, and is mended by the whole sample after it; it may
+            // break again before the frames checked reach that mend (a mend then a second break, kept
+            // apart: the second one lost to the first, the frames after the mend were checked on an
+            // unknown state).
+            auto open_break = [&] {
+                auto [first, last] = broken_.equal_range(key);
+                for (; first != last; ++first)
+                    if (first->second.mended == 0) return first;
+                return broken_.end();
+            };
             if (!chain_.accept(f)) {
                 wanted_.want(key);
-                broken_.emplace(key, Broken{f.frame(), 0});  // the first refusal counts
+                if (open_break() == broken_.end()) broken_.emplace(key, Broken{f.frame(), 0});
                 return;
             }
             wanted_.got(key);
-            if (auto b = broken_.find(key); b != broken_.end() && f.complete() && b->second.mended == 0)
-                b->second.mended = f.frame();
+            if (auto b = open_break(); b != broken_.end() && f.complete()) b->second.mended = f.frame();
             pending_[f.frame()].push_back(f);
         });
         wire::SectorRequest whole;
@@ -477,7 +486,7 @@ private:
         std::uint64_t since = 0;   ///< the frame of its first refused sample
         std::uint64_t mended = 0;  ///< the frame of the whole sample after it (0: not yet)
     };
-    std::map<SectorKey, Broken> broken_;
+    std::multimap<SectorKey, Broken> broken_;
 };
 
 TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
@@ -750,7 +759,9 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
         worst_after, worst);
     // Real time after the pause: the time lost is reported with the frames, and the frames after it come
     // at the scene's rate, not in a burst that catches up on the wall time lost.
-    const double lost = frames.rbegin()->second.time_lost_s - frames.at(killed_at).time_lost_s;
+    // The time lost to the kill: over the frames around it (a loaded machine loses time later too).
+    const double lost =
+        frames.lower_bound(killed_at + 10)->second.time_lost_s - frames.at(killed_at).time_lost_s;
     const auto first_after = frames.lower_bound(killed_at + 5);
     const auto last_after = std::prev(frames.upper_bound(killed_at + 125));
     ASSERT_TRUE(first_after != frames.end() && last_after->first > first_after->first + 60);

@@ -144,6 +144,9 @@ TEST(PrecisionBound, LargestSectorForARadius) {
 }  // namespace
 }  // namespace lpss
 
+#include <algorithm>
+#include <set>
+
 #include "lpss/common/assignment.hpp"
 
 namespace lpss {
@@ -168,6 +171,54 @@ TEST(Assignment, EverySectorHasOneOwnerAndRangesAreBalanced) {
     // Neighbouring sectors of one block share an owner.
     EXPECT_EQ(a.owner_of({4, 1, 2}), a.owner_of({7, 3, 3}));
     EXPECT_EQ(block_of({-1, -4, -5}, 4), (SectorKey{-1, -1, -2}));
+}
+
+TEST(Assignment, AWorkerTakenOutLeavesItsRangeToItsNeighboursAndNoOtherSectorMoves) {
+    // The cluster's answer to a worker that is gone: the others cannot hand sectors over in time, so only
+    // the gone worker's sectors may change owner, and they go to the workers beside it on the curve.
+    std::vector<std::pair<SectorKey, double>> loads;
+    for (int i = -20; i < 20; ++i)
+        for (int k = 0; k < 4; ++k)
+            loads.push_back({{i, 0, k}, 1.0 + (i + 20) % 3});
+    const SectorAssignment a = SectorAssignment::balanced(loads, {1, 2, 3, 4}, 2);
+    std::vector<SectorKey> probes;
+    for (const auto& [sector, l] : loads)
+        probes.push_back(sector);
+    for (SectorKey s : {SectorKey{kMaxSectorIndex, -kMaxSectorIndex, 0}, SectorKey{-kMaxSectorIndex, 0, 0},
+                        SectorKey{-5, 99, 1000000}, SectorKey{0, 0, 0}})
+        probes.push_back(s);
+    for (std::uint32_t gone : {1u, 2u, 3u, 4u}) {
+        const SectorAssignment b = a.without(gone, loads);
+        ASSERT_EQ(b.workers.size(), 3u);
+        EXPECT_EQ(std::count(b.workers.begin(), b.workers.end(), gone), 0);
+        const std::size_t n =
+            static_cast<std::size_t>(std::find(a.workers.begin(), a.workers.end(), gone) - a.workers.begin());
+        std::set<std::uint32_t> heirs;
+        double before = 0.0, after = 0.0;  // the gone worker's load taken by the one before and the one after
+        for (const SectorKey& s : probes) {
+            const std::uint32_t was = a.owner_of(s), now = b.owner_of(s);
+            if (was != gone) {
+                EXPECT_EQ(now, was) << "a sector of worker " << was << " moved when worker " << gone
+                                    << " went";
+                continue;
+            }
+            heirs.insert(now);
+            for (const auto& [sector, l] : loads) {
+                if (sector == s) (n > 0 && now == a.workers[n - 1] ? before : after) += l;
+            }
+        }
+        std::set<std::uint32_t> neighbours;
+        if (n > 0) neighbours.insert(a.workers[n - 1]);
+        if (n + 1 < a.workers.size()) neighbours.insert(a.workers[n + 1]);
+        EXPECT_EQ(heirs, neighbours) << "worker " << gone;
+        if (neighbours.size() == 2) {
+            EXPECT_NEAR(before, after, 0.25 * (before + after)) << "worker " << gone;
+        }
+    }
+    // The last worker of the cluster, or one it does not have: nothing changes.
+    const SectorAssignment one = SectorAssignment::balanced(loads, {7}, 2);
+    EXPECT_EQ(one.without(7, loads).workers, std::vector<std::uint32_t>{7});
+    EXPECT_EQ(a.without(9, loads).workers, a.workers);
 }
 
 TEST(Assignment, MortonOrderFollowsSpace) {

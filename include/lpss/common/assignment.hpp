@@ -47,6 +47,13 @@ struct SectorAssignment {
     /// gives the load (bodies, step time) of the sectors that have any. Workers in the order given.
     static SectorAssignment balanced(const std::vector<std::pair<SectorKey, double>>& loads,
                                      const std::vector<std::uint32_t>& workers, std::int64_t block_size);
+
+    /// The same cut without one worker: its range goes to its neighbours on the curve, split where its load
+    /// (`loads`, as for balanced) halves; every other worker keeps every sector it owns. What a cluster
+    /// needs when a worker is gone: its other workers cannot hand a sector over in the frame that follows.
+    /// Unchanged if `worker` has no range or is the only worker.
+    SectorAssignment without(std::uint32_t worker,
+                             const std::vector<std::pair<SectorKey, double>>& loads) const;
 };
 
 }  // namespace lpss
