@@ -4,6 +4,9 @@
 // dead one's lease runs out (its timer, restarted from an interval computed before the live writer's last
 // beat, fires for it, and timer_expired does not look at the time); that writer's next beat makes it alive
 // again. Seen: a standby taking over took a live worker as gone in the same millisecond as the dead one.
+// Such a false report comes right after a real one (the timer fires for the dead writer, then marks the
+// writer an assertion has just made its next owner): a lapse reported within moments of another is given a
+// longer grace, which a real second death (two processes killed together) pays in time to be found.
 #pragma once
 
 #include <chrono>
@@ -17,21 +20,23 @@ class ConfirmedLapses {
 public:
     using Clock = std::chrono::steady_clock;
 
-    explicit ConfirmedLapses(Clock::duration grace) : grace_(grace) {}
+    ConfirmedLapses(Clock::duration grace, Clock::duration correlated_grace)
+        : grace_(grace), correlated_grace_(correlated_grace) {}
 
-    /// What DDS said of a writer: alive again (forgets a suspicion), or not alive (suspected from now).
-    void reported(const Key& key, bool alive, Clock::time_point now) {
+    /// What DDS said of a writer: alive again (forgets a suspicion), or not alive (suspected from now;
+    /// `correlated`: reported within moments of another writer's lapse, given the longer grace).
+    void reported(const Key& key, bool alive, Clock::time_point now, bool correlated = false) {
         if (alive) {
             suspected_.erase(key);
         } else {
-            suspected_.emplace(key, now);
+            suspected_.emplace(key, now + (correlated ? correlated_grace_ : grace_));
         }
     }
     /// The writers not alive again within the grace, each once: they count as lost from now.
     std::vector<Key> confirmed(Clock::time_point now) {
         std::vector<Key> out;
         for (auto it = suspected_.begin(); it != suspected_.end();) {
-            if (now - it->second < grace_) {
+            if (now < it->second) {
                 ++it;
                 continue;
             }
@@ -44,7 +49,8 @@ public:
 
 private:
     Clock::duration grace_;
-    std::map<Key, Clock::time_point> suspected_;
+    Clock::duration correlated_grace_;
+    std::map<Key, Clock::time_point> suspected_;  ///< until when each is given to come back
 };
 
 }  // namespace lpss::coordinator

@@ -229,8 +229,10 @@ void Coordinator::State::pump() {
     // machine) stays.
     const auto now = Clock::now();
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
+        const bool correlated = !change.alive && now - last_lapse_report < kCorrelatedLapse;
+        if (!change.alive) last_lapse_report = now;
         if (standby_writer && change.writer == *standby_writer) {
-            coordinator_lapses.reported('s', change.alive, now);
+            coordinator_lapses.reported('s', change.alive, now, correlated);
             if (change.alive) standby_lost = false;
             if (change.alive && dropped_standby != 0) {
                 standby = std::exchange(dropped_standby, 0);
@@ -240,13 +242,13 @@ void Coordinator::State::pump() {
             continue;
         }
         if (primary_writer && change.writer == *primary_writer) {
-            coordinator_lapses.reported('p', change.alive, now);
+            coordinator_lapses.reported('p', change.alive, now, correlated);
             if (change.alive) primary_lost = false;
             continue;
         }
         auto worker = writer_of.find(change.writer);
         if (worker == writer_of.end()) continue;
-        worker_lapses.reported(change.writer, change.alive, now);
+        worker_lapses.reported(change.writer, change.alive, now, correlated);
         if (auto since = lost_since.find(worker->second);
             change.alive && since != lost_since.end() && since->second.writer == change.writer) {
             lost.erase(worker->second);

@@ -113,8 +113,12 @@ struct Coordinator::State {
     std::set<std::uint32_t> lost;  ///< workers whose running writer's liveliness lease expired (confirmed)
     /// Lapses reported and not yet confirmed: workers' by marks writer, coordinators' by 'p' (the one a
     /// standby follows) and 's' (the standby). Three beats of the writers (beat_period).
-    ConfirmedLapses<dds::fdds::InstanceHandle_t> worker_lapses{std::chrono::milliseconds(150)};
-    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(150)};
+    ConfirmedLapses<dds::fdds::InstanceHandle_t> worker_lapses{std::chrono::milliseconds(150),
+                                                               std::chrono::milliseconds(450)};
+    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(150), std::chrono::milliseconds(450)};
+    /// The last lapse DDS reported, of any writer: one reported within kCorrelatedLapse of it is suspect.
+    Clock::time_point last_lapse_report{};
+    static constexpr std::chrono::milliseconds kCorrelatedLapse{25};
     /// When each was found lost (system clock, ns, as DDS source timestamps), and its marks' writer then: a
     /// mark that writer wrote later shows it alive, should DDS not say so (seen: a standby stopped past the
     /// leases found a worker lost on waking, and never heard it was back, though its marks kept coming; at
