@@ -65,6 +65,15 @@ struct Client::State {
         WorkerView report;
     };
     std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks;
+    /// The coordinator's marks of frames in which it wrote the sectors of workers gone during them: by frame,
+    /// the sectors (followed) and the gone workers whose marks of that frame it stands for.
+    struct Restored {
+        std::vector<SectorKey> written;
+        std::vector<std::uint32_t> stands_for;
+    };
+    std::map<std::uint64_t, Restored> restored;
+    /// Whether worker `w`'s end of `frame` is known: its mark, or the coordinator's standing for it.
+    bool ended(std::uint32_t w, std::uint64_t frame) const;
     /// The coordinator's mark of the world's first state (frame 0): a client there from the start follows
     /// the world from it, without asking the workers for an inventory.
     std::optional<std::vector<SectorKey>> first_state;
@@ -233,6 +242,17 @@ void Client::State::take() {
             return;
         }
         if (info.valid_data && m.frame() == 0) hellos.insert(m.worker());
+        if (info.valid_data && m.frame() > applied && m.worker() == 0) {
+            // A worker gone during this frame: the coordinator wrote its sectors whole and ends the frame for
+            // it (a gone worker's own mark may never come, or come without its samples).
+            Restored& r = restored[m.frame()];
+            for (const wire::WrittenSector& w : m.written()) {
+                const SectorKey key = dds::from_wire(w.sector());
+                if (follows(key)) r.written.push_back(key);
+            }
+            r.stands_for.insert(r.stands_for.end(), m.stands_for().begin(), m.stands_for().end());
+            return;
+        }
         if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;
         Mark mark;
         for (const wire::WrittenSector& w : m.written()) {
@@ -478,20 +498,34 @@ bool Client::State::mark_lost(std::uint64_t frame) const {
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr) return false;
     for (std::uint32_t w : *workers) {
-        if (marks.count({w, frame})) continue;
+        if (ended(w, frame)) continue;
         auto later = marks.lower_bound({w, frame});
         if (later != marks.end() && later->first.first == w) return true;
     }
     return false;
 }
 
+bool Client::State::ended(std::uint32_t w, std::uint64_t frame) const {
+    if (marks.count({w, frame})) return true;
+    auto r = restored.find(frame);
+    return r != restored.end() && std::find(r->second.stands_for.begin(), r->second.stands_for.end(), w) !=
+                                      r->second.stands_for.end();
+}
+
 bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr) return false;
     for (std::uint32_t w : *workers) {
+        if (!ended(w, frame)) return false;
+    }
+    for (std::uint32_t w : *workers) {
         auto it = marks.find({w, frame});
-        if (it == marks.end()) return false;
+        if (it == marks.end()) continue;  // the coordinator's stands for it
         for (const SectorKey& key : it->second.written)
+            out[key] = frame;
+    }
+    if (auto r = restored.find(frame); r != restored.end()) {
+        for (const SectorKey& key : r->second.written)
             out[key] = frame;
     }
     return true;
@@ -508,12 +542,18 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr || !grid) return false;
     for (std::uint32_t w : *workers) {
+        if (!ended(w, frame)) return false;
         auto it = marks.find({w, frame});
-        if (it == marks.end()) return false;
+        if (it == marks.end()) continue;  // the coordinator's stands for it
         // Planes are shown from their descriptions, which travel apart from the frames: a frame waits
         // until those it counts (spawned or removed) have come.
         if (planes.size() != it->second.planes) return false;
         for (const SectorKey& key : it->second.written) {
+            if (!chain.holds(key, frame, frame)) return false;
+        }
+    }
+    if (auto r = restored.find(frame); r != restored.end()) {
+        for (const SectorKey& key : r->second.written) {
             if (!chain.holds(key, frame, frame)) return false;
         }
     }
@@ -645,7 +685,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         // What the workers wrote at f: sectors not written since hold what they held.
         bool marked = true;
         for (std::uint32_t w : *workers)
-            marked = marked && s.marks.count({w, f});
+            marked = marked && s.ended(w, f);
         if (!marked) {
             // A worker whose end of f is missing while a later one is here: the marks of frames this client
             // did not read in time were replaced by newer ones (a client not polled for a while), and what
@@ -660,7 +700,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
             // of f, that reached the coordinator and not this client, which waited on f for ever.)
             std::vector<std::uint32_t> missing;
             for (std::uint32_t w : *workers) {
-                if (!s.marks.count({w, f})) missing.push_back(w);
+                if (!s.ended(w, f)) missing.push_back(w);
             }
             bool skip = false;
             for (auto later = s.workers_from.upper_bound(f); later != s.workers_from.end() && !skip;
@@ -725,6 +765,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
     }
     for (auto it = s.marks.begin(); it != s.marks.end();)
         it = it->first.second <= s.applied ? s.marks.erase(it) : std::next(it);
+    s.restored.erase(s.restored.begin(), s.restored.upper_bound(s.applied));
     for (const WorldFrame& f : out) {
         if (s.callback) s.callback(f);
     }

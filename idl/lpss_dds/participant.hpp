@@ -57,9 +57,14 @@ class Participant {
 public:
     /// Joins `domain` with the profile in `profile_file`, or with lpss's built-in local profile (shared
     /// memory and loopback only) when it is empty. Refused with the reason when the profile is unreadable
-    /// or the participant cannot be created.
+    /// or the participant cannot be created. `avoid`: participant ids this process used before. Fast DDS
+    /// 2.9 makes a participant's GUID from its process and its participant id, so a second participant of
+    /// the same id in a process is, to peers that never heard the first one leave (a link cut), the first
+    /// one, whose samples they have had: they drop what it writes (seen: a worker that joined again after a
+    /// cut, its request to join never read).
     static Expected<std::unique_ptr<Participant>> create(int domain, const std::string& profile_file,
-                                                         const std::string& name);
+                                                         const std::string& name,
+                                                         const std::set<int>& avoid = {});
     ~Participant();
     Participant(const Participant&) = delete;
     Participant& operator=(const Participant&) = delete;
@@ -82,12 +87,15 @@ public:
     fdds::Publisher* publisher() { return publisher_; }
     fdds::Subscriber* subscriber() { return subscriber_; }
     int domain() const { return domain_; }
+    /// Its participant id (which ports it listens on); -1 if Fast DDS chose it.
+    int participant_id() const { return participant_id_; }
 
 private:
     Participant() = default;
     fdds::Topic* topic(const std::string& name, fdds::TypeSupport& type);
 
     int domain_ = 0;
+    int participant_id_ = -1;
     fdds::DomainParticipant* participant_ = nullptr;
     fdds::Publisher* publisher_ = nullptr;
     fdds::Subscriber* subscriber_ = nullptr;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <optional>
+#include <set>
 
 namespace lpss::dds {
 
@@ -21,7 +22,8 @@ std::size_t remove_abandoned_shm(int domain, std::chrono::seconds min_age = std:
 /// mark, and a writer that had opened them again meanwhile (to the dead reader, before its participant
 /// lapses) keeps a removed segment that no one reads, and that looks healthy for ever (Fast DDS 2.9's
 /// SharedMemGlobal). Seen: a worker restarted under its id matched the coordinator's writer and never
-/// received a frame start. Empty if every id of the domain's port range is taken.
-std::optional<int> participant_id_with_fresh_ports(int domain);
+/// received a frame start. Ids in `avoid` are not taken. Empty if every id of the domain's port range is
+/// taken.
+std::optional<int> participant_id_with_fresh_ports(int domain, const std::set<int>& avoid = {});
 
 }  // namespace lpss::dds

@@ -56,7 +56,8 @@ Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_
 }  // namespace
 
 Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std::string& profile_file,
-                                                           const std::string& name) {
+                                                           const std::string& name,
+                                                           const std::set<int>& avoid) {
     if (domain < 0 || domain > 232)
         return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
     Expected<fdds::DomainParticipantQos> qos = participant_qos(profile_file);
@@ -72,14 +73,23 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
             shared_memory ||
             std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(transport);
     auto* factory = fdds::DomainParticipantFactory::get_instance();
+    std::optional<int> id;
     if (qos->wire_protocol().participant_id < 0 && shared_memory) {
-        if (std::optional<int> id = participant_id_with_fresh_ports(domain)) {
-            fdds::DomainParticipantQos chosen = qos.value();
-            chosen.wire_protocol().participant_id = *id;
-            p->participant_ = factory->create_participant(domain, chosen);
-        }
+        id = participant_id_with_fresh_ports(domain, avoid);
+    } else if (qos->wire_protocol().participant_id < 0 && !avoid.empty()) {
+        for (id = 0; avoid.count(*id);)
+            ++*id;
     }
-    if (p->participant_ == nullptr) p->participant_ = factory->create_participant(domain, qos.value());
+    if (id) {
+        fdds::DomainParticipantQos chosen = qos.value();
+        chosen.wire_protocol().participant_id = *id;
+        p->participant_ = factory->create_participant(domain, chosen);
+        if (p->participant_ != nullptr) p->participant_id_ = *id;
+    }
+    if (p->participant_ == nullptr) {
+        p->participant_ = factory->create_participant(domain, qos.value());
+        p->participant_id_ = qos->wire_protocol().participant_id;
+    }
     if (p->participant_ == nullptr)
         return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);

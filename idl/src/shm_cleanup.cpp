@@ -100,7 +100,7 @@ std::size_t remove_abandoned_shm(int domain, std::chrono::seconds min_age) {
     return removed;
 }
 
-std::optional<int> participant_id_with_fresh_ports(int domain) {
+std::optional<int> participant_id_with_fresh_ports(int domain, const std::set<int>& avoid) {
     // RTPS well-known ports: 7400 + 250 d + 10 + 2 id (discovery), + 11 + 2 id (user data); Fast DDS names
     // a shared-memory port after its number (fastrtps_port<N>, with _el, _sl and _mutex beside it).
     std::set<long> taken;
@@ -114,7 +114,8 @@ std::optional<int> participant_id_with_fresh_ports(int domain) {
     if (error) return std::nullopt;
     const long base = 7400 + 250L * domain;
     for (int id = 0; 11 + 2 * id < 250; ++id) {
-        if (!taken.count(base + 10 + 2 * id) && !taken.count(base + 11 + 2 * id)) return id;
+        if (!avoid.count(id) && !taken.count(base + 10 + 2 * id) && !taken.count(base + 11 + 2 * id))
+            return id;
     }
     return std::nullopt;
 }

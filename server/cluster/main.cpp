@@ -123,7 +123,6 @@ int main(int argc, char** argv) {
         lpss::dds::reader_qos(lpss::dds::kStateDelivery), &inbox);
 
     std::vector<ChildProcess> children;
-    std::map<std::uint32_t, int> restarts;
     auto worker_args = [&](std::uint32_t w) {
         std::vector<std::string> args = common;
         args.insert(args.end(), {"--id", std::to_string(w), "--threads", std::to_string(threads)});
@@ -292,9 +291,11 @@ int main(int argc, char** argv) {
         }
         if (!active->running()) {
             exit_code = active->exit_code().value_or(1);
-            // A coordinator killed (a signal, not an exit that says why) once the world runs, while its
-            // standby runs: the standby takes over, and the world goes on.
-            if (exit_code >= 128 && last_frame > 0 && !taken_over && standby && standby->running()) {
+            // A coordinator killed (a signal, not an exit that says why), or one that found its standby had
+            // taken over (exit 6: it was stopped or cut off past its lease), once the world runs, while its
+            // standby runs: the standby goes on with the world.
+            if ((exit_code >= 128 || exit_code == 6) && last_frame > 0 && !taken_over && standby &&
+                standby->running()) {
                 taken_over = true;
                 active = &*standby;
                 fmt::print("lpss-cluster: the coordinator ended (exit {}); the standby takes over\n",
@@ -304,18 +305,6 @@ int main(int argc, char** argv) {
                 continue;
             }
             break;
-        }
-        // A worker the coordinator took as gone (stopped or cut off past its lease) stops with exit 5:
-        // started again, it joins the running world.
-        for (std::size_t n = 0; n < children.size() && !stopping; ++n) {
-            ChildProcess& c = children[n];
-            if (c.running() || c.exit_code() != std::optional<int>(5)) continue;
-            const auto w = static_cast<std::uint32_t>(n + 1);
-            const std::string log = log_dir + fmt::format("/worker-{}.restart{}.log", w, ++restarts[w]);
-            auto again = ChildProcess::start(worker_program, worker_args(w), log);
-            fmt::print("lpss-cluster: worker {} was taken as gone and stopped; started again ({})\n", w,
-                       again ? log : std::string("failed"));
-            if (again) c = std::move(*again);
         }
         if (stop.load() && !stopping) {
             // Ctrl-C: the coordinator tells the workers to stop after the current frame.

@@ -165,6 +165,7 @@ std::vector<std::uint32_t> Coordinator::State::recipients(const SectorKey& key,
 void Coordinator::State::pump() {
     marks_in->take_all([&](const wire::WorkerFrame& m, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
+        lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
         if (m.worker() == 0) {
             // Another coordinator's, which a standby follows: the sectors of the world's first state, and the
             // frames it wrote sector samples for.
@@ -229,35 +230,35 @@ void Coordinator::State::pump() {
     // machine) stays.
     const auto now = Clock::now();
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
-        const bool correlated = !change.alive && now - last_lapse_report < kCorrelatedLapse;
-        if (!change.alive) last_lapse_report = now;
+        // Every writer's report counts, known or not: a false one comes right after a real one.
+        lapses.reported(change.writer, change.alive, now);
+        if (!change.alive) continue;
         if (standby_writer && change.writer == *standby_writer) {
-            coordinator_lapses.reported('s', change.alive, now, correlated);
-            if (change.alive) standby_lost = false;
-            if (change.alive && dropped_standby != 0) {
+            standby_lost = false;
+            if (dropped_standby != 0) {
                 standby = std::exchange(dropped_standby, 0);
                 spdlog::warn("coordinator {}: standby coordinator {} is back: frames wait for it again",
                              options.id, standby);
             }
-            continue;
-        }
-        if (primary_writer && change.writer == *primary_writer) {
-            coordinator_lapses.reported('p', change.alive, now, correlated);
-            if (change.alive) primary_lost = false;
-            continue;
-        }
-        auto worker = writer_of.find(change.writer);
-        if (worker == writer_of.end()) continue;
-        worker_lapses.reported(change.writer, change.alive, now, correlated);
-        if (auto since = lost_since.find(worker->second);
-            change.alive && since != lost_since.end() && since->second.writer == change.writer) {
-            lost.erase(worker->second);
-            lost_since.erase(since);
+        } else if (primary_writer && change.writer == *primary_writer) {
+            primary_lost = false;
+        } else if (auto worker = writer_of.find(change.writer); worker != writer_of.end()) {
+            if (auto since = lost_since.find(worker->second);
+                since != lost_since.end() && since->second.writer == change.writer) {
+                lost.erase(worker->second);
+                lost_since.erase(since);
+            }
         }
     }
-    for (char who : coordinator_lapses.confirmed(now))
-        (who == 'p' ? primary_lost : standby_lost) = true;
-    for (const dds::fdds::InstanceHandle_t& writer : worker_lapses.confirmed(now)) {
+    for (const dds::fdds::InstanceHandle_t& writer : lapses.confirmed(now)) {
+        if (standby_writer && writer == *standby_writer) {
+            standby_lost = true;
+            continue;
+        }
+        if (primary_writer && writer == *primary_writer) {
+            primary_lost = true;
+            continue;
+        }
         auto worker = writer_of.find(writer);
         if (worker == writer_of.end()) continue;
         const std::uint32_t w = worker->second;
@@ -281,6 +282,7 @@ void Coordinator::State::watch_coordinators() {
             options.id, go.coordinator(), go.frame(), go.term(), term);
     });
     acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data) lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
         // A standby's hello (frame 0): named in every frame start from now on, until it is gone.
         if (!info.valid_data || ack.frame() != 0 || ack.coordinator() == options.id || standby != 0 ||
             dropped_standby != 0)
@@ -629,7 +631,7 @@ void Coordinator::State::take_as_gone(std::uint32_t w, const char* why) {
             ++it;
             continue;
         }
-        worker_lapses.forget(it->first);
+        lapses.forget(it->first);
         it = writer_of.erase(it);
     }
     spdlog::warn("coordinator: worker {} is taken as gone during frame {} ({}, {:.2f} s into the frame)", w,
@@ -798,17 +800,22 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (going.count(current.owner_of(key)) || going.count(base.owner_of(key))) keys.insert(key);
     }
+    std::vector<std::uint32_t> gone;
+    for (const auto& [w, going_why] : going)
+        gone.push_back(w);
     going.clear();
-    send_restored(f, fresh, keys, started);
+    send_restored(f, fresh, keys, gone, started);
     reassign(std::move(fresh), f + 1, ("worker(s) " + names + " gone").c_str());
 }
 
 void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& fresh,
-                                       const std::set<SectorKey>& keys, Clock::time_point started) {
+                                       const std::set<SectorKey>& keys,
+                                       const std::vector<std::uint32_t>& gone, Clock::time_point started) {
     wire::WorkerFrame restored;
     restored.worker(0);
     restored.frame(f);
     restored.epoch(fresh.epoch);
+    restored.stands_for(gone);
     std::size_t bodies = 0;
     for (const SectorKey& key : keys) {
         wire::SectorFrame sample = whole_from_mirror(key, f);

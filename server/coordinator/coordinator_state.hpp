@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "command_rate.hpp"
-#include "confirmed_lapses.hpp"
 #include "coordinator.hpp"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_grid.hpp"
 #include "lpss/common/world_settings.hpp"
 #include "lpssPubSubTypes.h"
+#include "lpss_dds/confirmed_lapses.hpp"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
@@ -111,14 +111,9 @@ struct Coordinator::State {
     /// be taken for the old one's liveliness, nor the old one's lapse for the new one's.
     std::map<std::uint32_t, dds::fdds::InstanceHandle_t> running_writer;
     std::set<std::uint32_t> lost;  ///< workers whose running writer's liveliness lease expired (confirmed)
-    /// Lapses reported and not yet confirmed: workers' by marks writer, coordinators' by 'p' (the one a
-    /// standby follows) and 's' (the standby). Three beats of the writers (beat_period).
-    ConfirmedLapses<dds::fdds::InstanceHandle_t> worker_lapses{std::chrono::milliseconds(150),
-                                                               std::chrono::milliseconds(450)};
-    ConfirmedLapses<char> coordinator_lapses{std::chrono::milliseconds(150), std::chrono::milliseconds(450)};
-    /// The last lapse DDS reported, of any writer: one reported within kCorrelatedLapse of it is suspect.
-    Clock::time_point last_lapse_report{};
-    static constexpr std::chrono::milliseconds kCorrelatedLapse{25};
+    /// Lapses reported and not yet confirmed, by writer: workers' marks, the followed coordinator's frame
+    /// starts (primary_writer), the standby's acknowledgements (standby_writer).
+    dds::ConfirmedLapses<dds::fdds::InstanceHandle_t> lapses;
     /// When each was found lost (system clock, ns, as DDS source timestamps), and its marks' writer then: a
     /// mark that writer wrote later shows it alive, should DDS not say so (seen: a standby stopped past the
     /// leases found a worker lost on waking, and never heard it was back, though its marks kept coming; at
@@ -190,9 +185,10 @@ struct Coordinator::State {
     };
     std::map<std::uint32_t, Going> going;
     bool last_lapse_noted = false;  ///< the last live worker's lapse was logged (once)
-    /// Sends sectors as of frame f, whole, to their holders under `fresh`.
+    /// Sends sectors as of frame f, whole, to their holders under `fresh`, with a mark that stands for the
+    /// `gone` workers' marks of f.
     void send_restored(std::uint64_t f, const SectorAssignment& fresh, const std::set<SectorKey>& keys,
-                       Clock::time_point started);
+                       const std::vector<std::uint32_t>& gone, Clock::time_point started);
     void accept_commands();
     /// Accepts one command for the next frame, or refuses it with the reason.
     void accept(const wire::Command& c);

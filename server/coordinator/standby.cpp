@@ -70,6 +70,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
         });
         go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || go.coordinator() == options.id || go.term() < term) return;
+            lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
             if (go.term() > term) {
                 term = go.term();
                 starts.clear();

@@ -64,6 +64,34 @@ bool FrameGate::whole(std::uint64_t previous, const std::vector<std::uint32_t>& 
     return true;
 }
 
+std::string FrameGate::missing(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
+                               bool coordinator_wrote, const dds::SectorChain& chain) const {
+    std::string out;
+    auto look = [&](std::uint32_t worker) {
+        const std::string who =
+            worker == 0 ? std::string("the coordinator") : "worker " + std::to_string(worker);
+        auto it = marks_.find({worker, previous});
+        if (it == marks_.end()) {
+            out += (out.empty() ? "" : "; ") + who + "'s end of the frame";
+            return;
+        }
+        for (const SectorKey& key : it->second) {
+            if (chain.holds(key, previous, ~std::uint64_t{0})) continue;
+            out +=
+                (out.empty() ? "" : "; ") + who + "'s sample of sector (" + std::to_string(key.i) + ", " +
+                std::to_string(key.j) + ", " + std::to_string(key.k) + ")" +
+                (chain.newest(key) > 0 ? " (holds it as of frame " + std::to_string(chain.newest(key)) + ")"
+                                       : "");
+        }
+    };
+    if (coordinator_wrote) look(0);
+    if (previous == 0) return out;
+    for (std::uint32_t worker : workers) {
+        if (worker != self_) look(worker);
+    }
+    return out;
+}
+
 void FrameGate::forget_before(std::uint64_t frame) {
     for (auto it = marks_.begin(); it != marks_.end();)
         it = it->first.second < frame ? marks_.erase(it) : std::next(it);

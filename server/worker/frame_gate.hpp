@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "lpss.h"
@@ -41,6 +42,9 @@ public:
     /// lists as written for this worker, at that frame or later.
     bool whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers, bool coordinator_wrote,
                const dds::SectorChain& chain) const;
+    /// What `whole` still waits for, in words (a frame that starts without it says so).
+    std::string missing(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
+                        bool coordinator_wrote, const dds::SectorChain& chain) const;
 
     /// Whether a worker's (0: the coordinator's) mark of `frame` has come.
     bool has_mark(std::uint32_t worker, std::uint64_t frame) const {

@@ -21,6 +21,9 @@ int main(int argc, char** argv) {
     app.add_option("--border-wait-ms", border_wait_ms, "longest wait for other workers' data before a frame");
     app.add_option("--coordinator-wait-s", coordinator_wait_s, "how long to wait for a coordinator");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
+    bool rejoin = true;
+    app.add_flag("--rejoin,!--no-rejoin", rejoin,
+                 "taken as gone or cut off, join the cluster again as a fresh worker (default), or exit 5");
     CLI11_PARSE(app, argc, argv);
     if (lpss::Status st = lpss::set_log_level(log_level); !st) {
         std::fprintf(stderr, "lpss-worker: %s\n", st.error().message.c_str());
@@ -30,10 +33,19 @@ int main(int argc, char** argv) {
     options.coordinator_wait = std::chrono::seconds(coordinator_wait_s);
     lpss::runtime::keep_large_buffers_apart();
     const auto& stop = lpss::runtime::install_stop_signal();
-    auto worker = lpss::worker::Worker::create(options);
-    if (!worker) {
-        spdlog::error("lpss-worker {}: cannot start: {}", options.id, worker.error().message);
-        return 2;
+    for (;;) {
+        auto worker = lpss::worker::Worker::create(options);
+        if (!worker) {
+            spdlog::error("lpss-worker {}: cannot start: {}", options.id, worker.error().message);
+            return 2;
+        }
+        const int code = (*worker)->run(stop);
+        if (code != lpss::worker::kTakenAsGone || !rejoin || stop.load()) return code;
+        // Out of the cluster: a fresh participant (new writers, whose histories hold nothing this one wrote)
+        // joins it again, as a worker restarted under this id would; under another participant id, so that
+        // peers do not take it for the one they knew.
+        options.avoid_participant_ids.insert((*worker)->participant_id());
+        (*worker).reset();
+        spdlog::info("worker {}: joins again as a fresh worker", options.id);
     }
-    return (*worker)->run(stop);
 }

@@ -19,6 +19,7 @@
 #include "lpss/common/process_memory.hpp"
 #include "lpss/engine/world.hpp"
 #include "lpssPubSubTypes.h"
+#include "lpss_dds/confirmed_lapses.hpp"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
@@ -59,6 +60,9 @@ constexpr std::chrono::seconds kInventoryPatience{10};
 /// million bodies cost a worker half a million in one frame, which starved a two-core machine long
 /// enough for liveliness leases to lapse. The joiner's first frame comes once its last sector has.
 constexpr std::uint32_t kJoinerBodiesPerFrame = 20000;
+
+/// A request to join not answered by then is made again.
+constexpr std::chrono::seconds kJoinPatience{5};
 
 /// Load reports come every this many frames.
 constexpr std::uint64_t kLoadReportEvery = 60;
@@ -122,6 +126,22 @@ struct Worker::State {
     std::uint64_t resident_bytes = 0;
 
     bool coordinator_present() const { return go_in->matched() > 0; }
+    /// The coordinators' frame start writers whose liveliness this worker hears (the coordinator's, a
+    /// standby's): none, once it had some, means it is cut off from them (a link down), or every
+    /// coordinator is gone.
+    std::set<dds::fdds::InstanceHandle_t> coordinators_heard;
+    dds::ConfirmedLapses<dds::fdds::InstanceHandle_t> coordinator_lapses;
+    bool heard_a_coordinator = false;
+    void follow_coordinator_liveliness();
+    bool cut_off() const { return heard_a_coordinator && coordinators_heard.empty(); }
+    /// Out of the cluster: what its writers still hold, no one may have yet (written as the link went, or
+    /// before a stop); repaired later it would be stale. Dropped from their histories.
+    void forget_what_it_wrote();
+    /// Cut off: forgets what it wrote, then waits until it hears a coordinator again (the link is back) to
+    /// return kTakenAsGone, so that the fresh worker that joins starts on a working link (a participant
+    /// created while the link was down never used that interface, and found no one when it came back); 3 if
+    /// none comes within the coordinator wait, 0 if stopped.
+    int sit_out(const std::atomic<bool>& stop);
     void pump();
     bool start_world(const wire::FrameGo& go, const std::atomic<bool>& stop);
     /// The engine world under the coordinator's settings; false (logged) if they are refused.
@@ -135,6 +155,7 @@ struct Worker::State {
     enum class Joining { waiting, joined, failed };
     Joining join(const wire::FrameGo& latest);
     bool asked_to_join = false;
+    Clock::time_point asked_at;    ///< its latest request to join
     SectorAssignment joined_from;  ///< in force when it asked: its sectors' owners before it
     /// Samples of frames before it asked are history of the cluster before it joined (a restarted worker's
     /// old sectors, in the coordinator's first state): never applied.
@@ -183,8 +204,9 @@ Worker::~Worker() {
 Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     if (options.id == 0) return Error{"worker ids start at 1"};
     auto state = std::make_unique<State>(options);
-    Expected<std::unique_ptr<dds::Participant>> participant = dds::Participant::create(
-        options.domain, options.profile, "lpss-worker-" + std::to_string(options.id));
+    Expected<std::unique_ptr<dds::Participant>> participant =
+        dds::Participant::create(options.domain, options.profile, "lpss-worker-" + std::to_string(options.id),
+                                 options.avoid_participant_ids);
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;
@@ -201,8 +223,9 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
         p, p.sector_recipient(kSectorFrames, options.id), reader_qos(kSectorFrameReading), &state->inbox);
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
+    // With the frame starts' lease: a worker that hears no coordinator beat knows it is cut off.
     state->go_in = std::make_unique<Reader<wire::FrameGo>>(p, p.topic<wire::FrameGoPubSubType>(kFrameGo),
-                                                           reader_qos(kFrameDelivery), &state->inbox);
+                                                           reader_qos(kCoordinatorWords), &state->inbox);
     state->acks_in = std::make_unique<Reader<wire::FrameAck>>(
         p, p.topic<wire::FrameAckPubSubType>(kFrameAcks), reader_qos(kFrameDelivery), &state->inbox);
     state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
@@ -223,9 +246,49 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
 }
 
+void Worker::State::follow_coordinator_liveliness() {
+    const auto now = Clock::now();
+    for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
+        coordinator_lapses.reported(change.writer, change.alive, now);
+        if (change.alive) {
+            coordinators_heard.insert(change.writer);
+            heard_a_coordinator = true;
+        }
+    }
+    for (const dds::fdds::InstanceHandle_t& writer : coordinator_lapses.confirmed(now))
+        coordinators_heard.erase(writer);
+}
+
+void Worker::State::forget_what_it_wrote() {
+    std::size_t removed = 0;
+    frames_out->raw()->clear_history(&removed);
+    marks_out->raw()->clear_history(&removed);
+    results_out->raw()->clear_history(&removed);
+}
+
+int Worker::State::sit_out(const std::atomic<bool>& stop) {
+    forget_what_it_wrote();
+    const auto since = Clock::now();
+    while (!stop.load() && cut_off()) {
+        if (Clock::now() - since > options.coordinator_wait) {
+            spdlog::error("worker {}: no coordinator came back within {} s; stopping", options.id,
+                          options.coordinator_wait.count() / 1000);
+            return 3;
+        }
+        inbox.wait(std::chrono::milliseconds(50));
+        pump();
+    }
+    if (stop.load()) return 0;
+    spdlog::info("worker {}: a coordinator is heard again", options.id);
+    return kTakenAsGone;
+}
+
 void Worker::State::pump() {
+    follow_coordinator_liveliness();
     go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
-        if (info.valid_data && go.frame() > frame) gate.take_go(go);
+        if (!info.valid_data) return;
+        coordinator_lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
+        if (go.frame() > frame) gate.take_go(go);
     });
     acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) gate.take_ack(ack);
@@ -406,7 +469,10 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
     if (announced.epoch == latest.epoch() && !given) {
         // No change under way: ask, once for each assignment seen in force (an answer may be a change made
         // for another reason, such as a worker gone, that leaves this one out).
-        if (asked_to_join && joined_from.epoch == announced.epoch) return Joining::waiting;
+        // Once for each, and again if no answer comes (a request the coordinator never read: written before
+        // its reader matched this writer, or lost with a coordinator that went).
+        if (asked_to_join && joined_from.epoch == announced.epoch && Clock::now() - asked_at < kJoinPatience)
+            return Joining::waiting;
         // Not before every worker and the coordinator can reach it and it them: its first frame needs their
         // samples at once, and discovery that matched one side only took seconds at times (seen: a joiner
         // that started its first frame without its sectors, 2 s later, and showed bodies twice).
@@ -433,10 +499,15 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
             }
             return Joining::waiting;
         }
-        if (!asked_to_join)
+        if (!asked_to_join) {
             spdlog::info("worker {}: the cluster is running (frame {}): asking to join", options.id,
                          latest.frame());
+        } else if (joined_from.epoch == announced.epoch) {
+            spdlog::warn("worker {}: no answer to its request to join after {} s: asking again", options.id,
+                         kJoinPatience.count());
+        }
         asked_to_join = true;
+        asked_at = Clock::now();
         joined_from = announced;
         // What came before is history: the coordinator's first state and restored sectors, addressed to a
         // worker of this id that is gone (seen: a restarted worker showed a body where it was at frame 0).
@@ -715,6 +786,8 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
     marks_out->write(m);
 }
 
+int Worker::participant_id() const { return state_->participant->participant_id(); }
+
 int Worker::run(const std::atomic<bool>& stop) {
     State& s = *state_;
     const std::uint32_t id = s.options.id;
@@ -726,9 +799,17 @@ int Worker::run(const std::atomic<bool>& stop) {
     bool coordinator_seen = false;
     bool coordinator_lost = false;          ///< a running world has no coordinator
     Clock::time_point coordinator_lost_at;  ///< since when
-    double write_ms = 0.0;  // writing the last frame's samples, reported with the next frame's mark
     while (!stop.load()) {
         s.pump();
+        if (s.world && s.cut_off()) {
+            // No coordinator's beat for its lease: this worker is cut off (or every coordinator is gone).
+            // The others are taking its sectors over; whatever it published from now on would be stale.
+            spdlog::error(
+                "worker {}: no coordinator heard for its lease (cut off, or every coordinator gone) after "
+                "frame {}: stopping without publishing; it is taken as gone",
+                id, s.frame);
+            return s.sit_out(stop);
+        }
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
         if (next == nullptr) {
             // A frame after the next started without this worker: the coordinator took it as gone (it was
@@ -737,9 +818,10 @@ int Worker::run(const std::atomic<bool>& stop) {
                 s.world && latest != nullptr && latest->frame() >= s.frame + 2) {
                 spdlog::error(
                     "worker {}: the coordinator took this worker as gone (frame {} started without it after "
-                    "its frame {}): stopping without publishing; start it again to rejoin",
+                    "its frame {}): stopping without publishing",
                     id, latest->frame(), s.frame);
-                return 5;
+                s.forget_what_it_wrote();
+                return kTakenAsGone;
             }
             // A cluster already running when this worker came (it sees no frame 1 but later ones): it joins.
             if (const wire::FrameGo* latest = s.gate.latest();
@@ -747,6 +829,19 @@ int Worker::run(const std::atomic<bool>& stop) {
                 if (latest->stop()) {
                     spdlog::info("worker {}: the cluster stopped before this worker joined it", id);
                     return 0;
+                }
+                if (!s.coordinator_present()) {
+                    // Joining a world whose coordinator went: not for ever.
+                    if (!coordinator_lost) {
+                        coordinator_lost = true;
+                        coordinator_lost_at = Clock::now();
+                    } else if (Clock::now() - coordinator_lost_at > s.options.coordinator_wait) {
+                        spdlog::error("worker {}: the coordinator went before this worker joined; stopping",
+                                      id);
+                        return 3;
+                    }
+                } else {
+                    coordinator_lost = false;
                 }
                 const State::Joining joining = s.join(*latest);
                 if (joining == State::Joining::failed) return 4;
@@ -813,10 +908,19 @@ int Worker::run(const std::atomic<bool>& stop) {
         // The other workers' data of the previous frame, within a bounded wait.
         s.announce(go);
         while (!s.gate.whole(s.frame - 1, go.ended(), go.coordinator_wrote(), s.chain) && !stop.load()) {
+            if (s.cut_off()) {
+                // Cut off while waiting for the others' data (the wait would end degraded, then publish).
+                spdlog::error(
+                    "worker {}: no coordinator heard for its lease (cut off, or every coordinator gone) "
+                    "during frame {}: stopping without publishing; it is taken as gone",
+                    id, s.frame);
+                return s.sit_out(stop);
+            }
             if (Clock::now() - wait_start > s.options.border_wait) {
                 ++s.degraded;
-                spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded)", id,
-                             s.frame, s.frame - 1);
+                spdlog::warn("worker {}: frame {} starts without all border data of frame {} (degraded): {}",
+                             id, s.frame, s.frame - 1,
+                             s.gate.missing(s.frame - 1, go.ended(), go.coordinator_wrote(), s.chain));
                 break;
             }
             s.inbox.wait(std::chrono::milliseconds(5));
@@ -827,9 +931,10 @@ int Worker::run(const std::atomic<bool>& stop) {
         if (s.left_out) {
             spdlog::error(
                 "worker {}: the coordinator took this worker as gone (the assignment in force from frame {} "
-                "leaves it out): stopping without publishing; start it again to rejoin",
+                "leaves it out): stopping without publishing",
                 id, s.frame);
-            return 5;
+            s.forget_what_it_wrote();
+            return kTakenAsGone;
         }
         const double wait_ms = ms_since(wait_start);
         const auto step_start = Clock::now();
@@ -837,15 +942,13 @@ int Worker::run(const std::atomic<bool>& stop) {
         const double step_ms = ms_since(step_start);
         const auto publish_start = Clock::now();
         std::vector<wire::WrittenSector> written = s.publish();
-        const double publish_ms = ms_since(publish_start) + write_ms;
-        // The mark first: the coordinator can start the next frame while the samples are written; the
-        // workers that hold them wait for them.
-        s.mark(std::move(written), step_ms, wait_ms, publish_ms);
-        const auto write_start = Clock::now();
+        // The samples before the mark: a worker killed between the two must not leave a mark whose samples
+        // never come (seen, with the mark first: readers waited for them, a client for ever, and the frame
+        // stepped again for it started from the frame before it, a frame of motion lost).
         for (const wire::SectorFrame& sample : s.outgoing)
             s.frames_out->write(sample);
         s.outgoing.clear();
-        write_ms = ms_since(write_start);
+        s.mark(std::move(written), step_ms, wait_ms, ms_since(publish_start));
         // Building the world and sending it whole leave the heap full of freed buffers.
         if (s.frame == 1 || s.frame % 600 == 0) runtime::give_back_free_memory();
         s.gate.forget_before(s.frame - 1);

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "lpss/common/expected.hpp"
@@ -24,14 +25,24 @@ struct WorkerOptions {
     std::chrono::milliseconds border_wait{2000};
     /// How long to wait for a coordinator before giving up.
     std::chrono::milliseconds coordinator_wait{30000};
+    /// DDS participant ids not to take: those of this process's earlier workers (see Participant::create).
+    std::set<int> avoid_participant_ids;
 };
+
+/// What Worker::run returns when this worker is out of the cluster while it runs: the coordinator took it
+/// as gone (it was stopped or starved past its lease), or it heard no coordinator for the lease (cut off).
+/// It published nothing since; a fresh worker of the same id (a new DDS participant) may join again.
+inline constexpr int kTakenAsGone = 5;
 
 class Worker {
 public:
     static Expected<std::unique_ptr<Worker>> create(const WorkerOptions& options);
     ~Worker();
-    /// Runs until the coordinator stops the cluster or `stop` is set. Returns the process exit code.
+    /// Runs until the coordinator stops the cluster, `stop` is set, or it is out of the cluster
+    /// (kTakenAsGone). Returns the process exit code.
     int run(const std::atomic<bool>& stop);
+    /// Its DDS participant id (-1 if Fast DDS chose it).
+    int participant_id() const;
 
     struct State;
 
