@@ -3,8 +3,10 @@
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <utility>
@@ -53,6 +55,23 @@ Expected<fdds::DomainParticipantQos> participant_qos(const std::string& profile_
     return qos;
 }
 
+/// LPSS_DDS_LOG=warning (or info) lets Fast DDS's own messages through to the process's output: its
+/// transports say there what they drop or time out on, which nothing else reports. Fast DDS's log is
+/// process-wide, so this is read once.
+void apply_dds_log_verbosity() {
+    static const bool applied = [] {
+        const char* wanted = std::getenv("LPSS_DDS_LOG");
+        if (wanted == nullptr) return true;
+        using Log = eprosima::fastdds::dds::Log;
+        if (std::strcmp(wanted, "warning") == 0) Log::SetVerbosity(Log::Warning);
+        else if (std::strcmp(wanted, "info") == 0) Log::SetVerbosity(Log::Info);
+        else if (std::strcmp(wanted, "error") == 0) Log::SetVerbosity(Log::Error);
+        else spdlog::warn("LPSS_DDS_LOG={} is not one of error, warning, info: ignored", wanted);
+        return true;
+    }();
+    (void)applied;
+}
+
 }  // namespace
 
 Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std::string& profile_file,
@@ -60,6 +79,7 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
                                                            const std::set<int>& avoid) {
     if (domain < 0 || domain > 232)
         return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
+    apply_dds_log_verbosity();
     Expected<fdds::DomainParticipantQos> qos = participant_qos(profile_file);
     if (!qos) return qos.error();
     qos->name(name);

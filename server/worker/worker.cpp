@@ -813,9 +813,10 @@ int Worker::run(const std::atomic<bool>& stop) {
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
         if (next == nullptr) {
             // A frame after the next started without this worker: the coordinator took it as gone (it was
-            // stopped, or cut off, longer than its lease) and will not start its next frame again.
+            // stopped, or cut off, longer than its lease) and will not start its next frame again. (Not a
+            // stop: it does not wait for the standby as the start before it does, and may come first.)
             if (const wire::FrameGo* latest = s.gate.latest();
-                s.world && latest != nullptr && latest->frame() >= s.frame + 2) {
+                s.world && latest != nullptr && latest->frame() >= s.frame + 2 && !latest->stop()) {
                 spdlog::error(
                     "worker {}: the coordinator took this worker as gone (frame {} started without it after "
                     "its frame {}): stopping without publishing",

@@ -391,12 +391,11 @@ public:
                 // only until every worker has ended frame 2: a reader that matched its writer later
                 // (discovery under load) lacks the sectors written then and never written since (walls), and
                 // asks for them whole; until they come their state is unknown.
-                // It is waited for until later frames show it will not come (the marks of frame 10 are here).
+                // Its mark (durable: it comes, however late this reader matched the coordinator's marks
+                // writer) says which sectors it holds; their samples are waited for until later frames show
+                // they will not come (the marks of frame 10 are here).
+                if (!first_state_) break;
                 const bool late = !marks_by_frame_.empty() && marks_by_frame_.rbegin()->first >= 10;
-                if (!first_state_) {
-                    if (!late) break;
-                    first_state_.emplace();  // its mark never came: unknown, as any other sector
-                }
                 std::vector<SectorKey> lacking;
                 for (const SectorKey& key : *first_state_) {
                     if (chain_.newest(key) == 0 && !chain_.holds(key, 0, ~std::uint64_t{0}))
@@ -485,6 +484,11 @@ public:
                     for (const dds::SectorMirror::Body& body : bodies)
                         first_incomplete += " " + std::to_string(body.state.id());
                 }
+                first_incomplete += "; the first state's sectors:";
+                for (const SectorKey& key : first_state_ ? *first_state_ : std::vector<SectorKey>{})
+                    first_incomplete += " (" + std::to_string(key.i) + "," + std::to_string(key.j) + "," +
+                                        std::to_string(key.k) + ") newest " +
+                                        std::to_string(chain_.newest(key));
             }
             marks_by_frame_.erase(it);
             ++next_;
@@ -1955,13 +1959,17 @@ TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
     const int domain = 129;
     const testing::DomainCleanup cleanup(domain);
     const long first_port = 7400 + 250L * domain;
-    auto own = dds::Participant::create(domain, "", "shm-test");
+    // The built-in profile has no shared memory (deploy/profiles/lpss-local.xml says why); the opt-in
+    // profile beside it does, and lpss-cluster cleans up after it.
+    const std::string shm_profile = LPSS_SOURCE_DIR "/deploy/profiles/lpss-local-shm.xml";
+    auto own = dds::Participant::create(domain, shm_profile, "shm-test");
     ASSERT_TRUE(own.ok()) << own.error().message;
     const std::set<std::string> own_segments = segments_of("self");
     ASSERT_FALSE(own_segments.empty());
     // A worker waiting for a coordinator that never comes has a participant, with a segment of its own.
     auto worker = runtime::ChildProcess::start(
-        LPSS_WORKER, {"--id", "1", "--domain", std::to_string(domain), "--coordinator-wait-s", "60"});
+        LPSS_WORKER,
+        {"--id", "1", "--domain", std::to_string(domain), "--coordinator-wait-s", "60", "--profile", shm_profile});
     ASSERT_TRUE(worker);
     std::set<std::string> its_segments;
     for (int n = 0; n < 200 && its_segments.empty(); ++n) {
