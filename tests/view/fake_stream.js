@@ -181,6 +181,9 @@ function sendFrame(c) {
     departed = Array.from(c.sent.keys()).filter((id) => !now.has(id));
   }
   c.sent = new Map(rows.map((r) => [r[0], JSON.stringify(r)]));
+  // The page forgets a departed body's kind (lpss-view's feed does the same): one that comes back is sent
+  // its kind again. Kept, the blinking body's return after 5 s reached the page without its kind.
+  for (const id of Array.from(c.known)) if (!now.has(id)) c.known.delete(id);
   const handoffs = handoffLog.filter((h) => h[3] > c.lastFrame);
   send(c.res, 'frame', { frame, every_body: every, bodies, departed, handoffs, workers: workerStats(),
     time_lost: timeLost, started_ms: startedMs });
