@@ -63,10 +63,14 @@ void apply_dds_log_verbosity() {
         const char* wanted = std::getenv("LPSS_DDS_LOG");
         if (wanted == nullptr) return true;
         using Log = eprosima::fastdds::dds::Log;
-        if (std::strcmp(wanted, "warning") == 0) Log::SetVerbosity(Log::Warning);
-        else if (std::strcmp(wanted, "info") == 0) Log::SetVerbosity(Log::Info);
-        else if (std::strcmp(wanted, "error") == 0) Log::SetVerbosity(Log::Error);
-        else spdlog::warn("LPSS_DDS_LOG={} is not one of error, warning, info: ignored", wanted);
+        if (std::strcmp(wanted, "warning") == 0)
+            Log::SetVerbosity(Log::Warning);
+        else if (std::strcmp(wanted, "info") == 0)
+            Log::SetVerbosity(Log::Info);
+        else if (std::strcmp(wanted, "error") == 0)
+            Log::SetVerbosity(Log::Error);
+        else
+            spdlog::warn("LPSS_DDS_LOG={} is not one of error, warning, info: ignored", wanted);
         return true;
     }();
     (void)applied;

@@ -1967,9 +1967,9 @@ TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
     const std::set<std::string> own_segments = segments_of("self");
     ASSERT_FALSE(own_segments.empty());
     // A worker waiting for a coordinator that never comes has a participant, with a segment of its own.
-    auto worker = runtime::ChildProcess::start(
-        LPSS_WORKER,
-        {"--id", "1", "--domain", std::to_string(domain), "--coordinator-wait-s", "60", "--profile", shm_profile});
+    auto worker =
+        runtime::ChildProcess::start(LPSS_WORKER, {"--id", "1", "--domain", std::to_string(domain),
+                                                   "--coordinator-wait-s", "60", "--profile", shm_profile});
     ASSERT_TRUE(worker);
     std::set<std::string> its_segments;
     for (int n = 0; n < 200 && its_segments.empty(); ++n) {

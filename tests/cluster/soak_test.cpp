@@ -6,6 +6,7 @@
 // the run must end within 10% (or 8 MiB) of what it held 60% of the way in (after the coordinator's death,
 // so that the standby is measured as the coordinator it became).
 //   cd build && LPSS_SOAK_MINUTES=30 ctest -L long -V
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -125,7 +126,7 @@ TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
         restarted.emplace(w, std::move(*again));
         return true;
     };
-    std::size_t frames_seen = 0, wrong = 0, kills = 0;
+    std::size_t frames_seen = 0, wrong = 0, kills = 0, skips_told = 0;
     double longest_wait = 0.0;
     std::uint64_t last_frame = 0;
     std::string first_wrong;
@@ -147,15 +148,31 @@ TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
                 longest_wait = std::max(longest_wait, std::chrono::duration<double>(now - last_seen).count());
             last_seen = now;
             ++frames_seen;
+            // The client skips to the next frame it can show whole: say where, for the first few skips.
+            if (frames_seen > 1 && f.frame > last_frame + 1 && skips_told < 20) {
+                ++skips_told;
+                std::printf("%.1f s: the client skipped from frame %llu to %llu\n",
+                            std::chrono::duration<double>(now - start).count(),
+                            static_cast<unsigned long long>(last_frame),
+                            static_cast<unsigned long long>(f.frame));
+            }
             last_frame = f.frame;
-            std::set<BodyId> ids;
-            for (const BodyView& b : f.bodies)
-                ids.insert(b.id);
+            std::map<BodyId, const BodyView*> ids;
+            std::string twice;
+            for (const BodyView& b : f.bodies) {
+                const auto [it, fresh] = ids.emplace(b.id, &b);
+                if (!fresh && twice.size() < 400)
+                    twice +=
+                        fmt::format(" body {} in sector ({},{},{}) of worker {} and ({},{},{}) of worker {};",
+                                    b.id, it->second->position.sector.i, it->second->position.sector.j,
+                                    it->second->position.sector.k, it->second->worker, b.position.sector.i,
+                                    b.position.sector.j, b.position.sector.k, b.worker);
+            }
             if (ids.size() != scene.bodies.size() || f.bodies.size() != scene.bodies.size()) {
                 if (wrong++ == 0)
                     first_wrong = "frame " + std::to_string(f.frame) + ": " +
                                   std::to_string(f.bodies.size()) + " bodies, " + std::to_string(ids.size()) +
-                                  " distinct";
+                                  " distinct;" + twice;
             }
         }
         const auto now = Clock::now();
