@@ -89,6 +89,9 @@ struct Client::State {
     std::chrono::steady_clock::time_point synced_at;
     std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
     std::set<SectorKey> unconfirmed;            ///< from inventories: not yet held at their stamp
+    /// Sectors written in frames passed over since the last frame shown (a gone worker's frame skipped):
+    /// a frame shown later must hold each at its stamp, or the mirror would show it as it was before.
+    std::set<SectorKey> passed_over;
     std::uint64_t applied = 0;
     std::optional<WorldFrame> latest;
     std::function<void(const WorldFrame&)> callback;
@@ -111,9 +114,14 @@ struct Client::State {
     void forget_unlisted();
     /// Whether a worker's mark of `frame` will never come: a later mark of that worker is here.
     bool mark_lost(std::uint64_t frame) const;
-    bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const;
+    /// Whether `frame` can be shown: every sector written in it, every sector of `passed` (written in frames
+    /// since the last one shown) and every unconfirmed one is held at its stamp.
+    bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps,
+                  const std::set<SectorKey>& passed) const;
     /// Brings stamps as of frame - 1 to `frame`, from the marks of `frame`; false if a mark is missing.
-    bool stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& stamps) const;
+    /// The sectors written in `frame` are added to `written` if given.
+    bool stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& stamps,
+                     std::set<SectorKey>* written = nullptr) const;
     /// Whether every sector of the inventories has come at its stamp or later, so that some frame can be
     /// complete: without it, no frame is, and looking for one is wasted.
     bool inventories_held() const;
@@ -419,6 +427,7 @@ bool Client::State::sync() {
         if (from_start) {
             stamps.clear();
             unconfirmed.clear();
+            passed_over.clear();
             for (const SectorKey& key : *first_state) {
                 stamps[key] = 0;
                 unconfirmed.insert(key);
@@ -442,6 +451,7 @@ bool Client::State::sync() {
         start = std::max(start, f);
     stamps.clear();
     unconfirmed.clear();
+    passed_over.clear();  // the inventories say where every sector stands
     for (const auto& [w, f] : answered) {
         for (const auto& [key, stamp] : *marks.at({w, f}).inventory) {
             stamps[key] = std::max(stamps[key], stamp);
@@ -512,7 +522,8 @@ bool Client::State::ended(std::uint32_t w, std::uint64_t frame) const {
                                       r->second.stands_for.end();
 }
 
-bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out) const {
+bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& out,
+                                std::set<SectorKey>* written) const {
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr) return false;
     for (std::uint32_t w : *workers) {
@@ -521,12 +532,16 @@ bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::ui
     for (std::uint32_t w : *workers) {
         auto it = marks.find({w, frame});
         if (it == marks.end()) continue;  // the coordinator's stands for it
-        for (const SectorKey& key : it->second.written)
+        for (const SectorKey& key : it->second.written) {
             out[key] = frame;
+            if (written) written->insert(key);
+        }
     }
     if (auto r = restored.find(frame); r != restored.end()) {
-        for (const SectorKey& key : r->second.written)
+        for (const SectorKey& key : r->second.written) {
             out[key] = frame;
+            if (written) written->insert(key);
+        }
     }
     return true;
 }
@@ -538,7 +553,8 @@ bool Client::State::inventories_held() const {
     return true;
 }
 
-bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps) const {
+bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps,
+                             const std::set<SectorKey>& passed) const {
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr || !grid) return false;
     for (std::uint32_t w : *workers) {
@@ -558,6 +574,12 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
         }
     }
     for (const SectorKey& key : unconfirmed) {
+        if (!chain.holds(key, stamps.at(key), frame)) return false;
+    }
+    // A sector written in a frame passed over and not since: its sample there must be held, or what the
+    // mirror shows of it is older (seen in the soak: a partial sample refused for a missing base, the frames
+    // after it skipped, and the bodies that had left the sector shown in it and in the sector they went to).
+    for (const SectorKey& key : passed) {
         if (!chain.holds(key, stamps.at(key), frame)) return false;
     }
     return true;
@@ -716,8 +738,10 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
             if (!skip) break;
             for (std::uint32_t w : *workers) {
                 if (auto it = s.marks.find({w, f}); it != s.marks.end()) {
-                    for (const SectorKey& key : it->second.written)
+                    for (const SectorKey& key : it->second.written) {
                         s.stamps[key] = f;
+                        s.passed_over.insert(key);
+                    }
                 }
             }
             s.applied = f;
@@ -729,10 +753,16 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         // The stamps are brought forward frame by frame (a client behind by hundreds of frames looked for a
         // complete one by working out each frame's stamps from the start, and never caught up).
         std::map<SectorKey, std::uint64_t> at = s.stamps;
+        std::set<SectorKey> passed = s.passed_over;
         std::uint64_t show = 0, g = f;
         if (s.inventories_held()) {
-            for (; show == 0 && s.stamp_frame(g, at); ++g) {
-                if (s.complete(g, at)) show = g;
+            for (std::set<SectorKey> written; show == 0 && s.stamp_frame(g, at, &written); ++g) {
+                if (s.complete(g, at, passed)) {
+                    show = g;
+                } else {
+                    passed.insert(written.begin(), written.end());
+                    written.clear();
+                }
             }
         } else {
             while (s.stamp_frame(g, at))
@@ -750,6 +780,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         s.apply_until(show);
         s.applied = show;
         s.unconfirmed.clear();  // complete() found each of them held
+        s.passed_over.clear();
         out.push_back(s.options.content == FrameContent::changes ? s.changes_view(show) : s.frame_view(show));
         s.describe_cluster(out.back(), f, show);
         // Every worker's mark of a frame carries the coordinator's start of it.
