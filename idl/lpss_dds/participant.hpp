@@ -135,8 +135,8 @@ public:
     /// Wakes the waiting thread without data (to stop it).
     void poke();
     int matched_writers() const { return matched_.load(); }
-    /// A writer's liveliness changed (readers that ask for a lease: topics.hpp): it is alive again, or it
-    /// stopped asserting it. By publication handle (SampleInfo::publication_handle of its samples).
+    /// A writer's liveliness changed (readers that ask for a lease: topics.hpp): it is alive (new, or again),
+    /// or it stopped asserting it or went away. By publication handle (SampleInfo::publication_handle).
     struct Liveliness {
         fdds::InstanceHandle_t writer;
         bool alive = false;

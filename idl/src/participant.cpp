@@ -208,7 +208,11 @@ void Inbox::on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChang
     if (status.not_alive_count_change == 0 && status.alive_count_change == 0) return;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        liveliness_.push_back({status.last_publication_handle, status.not_alive_count_change <= 0});
+        // Alive only if a writer became alive (new, or back from a lapse). A writer that goes away (its
+        // process ended, or it was unmatched after its lapse) lowers alive_count or not_alive_count without
+        // raising the other: gone, not back. Read as back, a standby that came back from a pause and then
+        // exited was waited for by its coordinator until every worker was taken as gone.
+        liveliness_.push_back({status.last_publication_handle, status.alive_count_change > 0});
     }
     on_data_available(nullptr);
 }
