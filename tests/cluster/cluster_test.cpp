@@ -63,6 +63,18 @@ Scene crossing_scene() {
     return scene;
 }
 
+/// The pause a client saw after a fault: the longest wait, in seconds, from `since` for the first frame after
+/// `after`, and between each frame after it and the next, by the times the frames arrived.
+double longest_wait(const std::map<std::uint64_t, std::chrono::steady_clock::time_point>& arrived,
+                    std::uint64_t after, std::chrono::steady_clock::time_point since) {
+    double pause = 0.0;
+    for (auto it = arrived.upper_bound(after); it != arrived.end(); ++it) {
+        pause = std::max(pause, std::chrono::duration<double>(it->second - since).count());
+        since = it->second;
+    }
+    return pause;
+}
+
 /// Checks every frame a client saw against lpss-sim's run of the same scene: empty if each frame holds
 /// exactly lpss-sim's bodies, else what the first that does not holds; `worst` is set to the largest
 /// distance of a body from where lpss-sim has it.
@@ -777,12 +789,7 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     ASSERT_GT(frames.rbegin()->first, killed_at + 120) << "frames go on after the death";
 
     // The pause a client sees: the longest wait for a frame after the kill.
-    double pause = 0.0;
-    auto previous = killed;
-    for (auto it = arrived.upper_bound(killed_at); it != arrived.end(); ++it) {
-        pause = std::max(pause, std::chrono::duration<double>(it->second - previous).count());
-        previous = it->second;
-    }
+    const double pause = longest_wait(arrived, killed_at, killed);
     // Every frame the client saw holds every body once, each within the cluster's bound of lpss-sim
     // (docs/protocol.md: 1e-3), the frames around the death included.
     const SectorGrid grid(kL);
@@ -1083,12 +1090,7 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     ASSERT_TRUE(hosts.restore(3));
     gather(kFrames, std::chrono::seconds(90));
     ASSERT_EQ(frames.rbegin()->first, kFrames);
-    double pause = 0.0;
-    auto previous = cut;
-    for (auto it = arrived.upper_bound(cut_at); it != arrived.end(); ++it) {
-        pause = std::max(pause, std::chrono::duration<double>(it->second - previous).count());
-        previous = it->second;
-    }
+    const double pause = longest_wait(arrived, cut_at, cut);
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf(
@@ -1174,12 +1176,7 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
 
-    double pause = 0.0;
-    auto previous = killed;
-    for (auto it = arrived.upper_bound(killed_at); it != arrived.end(); ++it) {
-        pause = std::max(pause, std::chrono::duration<double>(it->second - previous).count());
-        previous = it->second;
-    }
+    const double pause = longest_wait(arrived, killed_at, killed);
     // Each spawn answered once: applied at a frame, or refused with a reason.
     std::map<BodyId, std::uint64_t> applied_at;
     for (const auto& [id, request] : spawns) {
