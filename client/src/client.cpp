@@ -83,7 +83,10 @@ struct Client::State {
     static constexpr std::uint64_t kNoMarkYet = ~std::uint64_t{0} - dds::kClientFramesAhead;
     std::uint64_t newest_mark = kNoMarkYet;
     dds::RefusedSamples refused_samples{"client"};
-    std::uint64_t inventory_request = 0;  ///< 0: not asked yet
+    std::uint64_t inventory_request = 0;  ///< the latest asked; 0: not asked since the last (re)sync
+    /// Answers to requests numbered from this on count: every request since the client began to (re)sync.
+    /// A worker's answer to any of them is what it held at its frame, which sync() can start from.
+    std::uint64_t inventory_since = 0;
     std::chrono::steady_clock::time_point inventory_asked;
     bool synced = false;  ///< the inventories are in: frames follow from `applied`
     std::chrono::steady_clock::time_point synced_at;
@@ -116,8 +119,12 @@ struct Client::State {
     bool mark_lost(std::uint64_t frame) const;
     /// Whether `frame` can be shown: every sector written in it, every sector of `passed` (written in frames
     /// since the last one shown) and every unconfirmed one is held at its stamp.
+    /// If not, and `missing` is given, the sectors it waits for are added to it.
     bool complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps,
-                  const std::set<SectorKey>& passed) const;
+                  const std::set<SectorKey>& passed, std::set<SectorKey>* missing = nullptr) const;
+    /// When no frame was shown since: a frame that waits this long for sectors has lost their samples (a
+    /// reader that fell behind loses samples its writer's history no longer holds), and asks for them whole.
+    std::chrono::steady_clock::time_point last_progress;
     /// Brings stamps as of frame - 1 to `frame`, from the marks of `frame`; false if a mark is missing.
     /// The sectors written in `frame` are added to `written` if given.
     bool stamp_frame(std::uint64_t frame, std::map<SectorKey, std::uint64_t>& stamps,
@@ -138,6 +145,9 @@ struct Client::State {
     bool shown_whole = false;       ///< a frame with every body was returned (FrameContent::changes)
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
+    /// Sectors a frame has waited for since kLostAfter without a frame shown: their samples are asked for
+    /// whole (their owners answer in their next frame, an emptied sector with an empty sample).
+    void ask_for_lost(const std::set<SectorKey>& missing);
     /// Fills in what the marks of frames [from, shown] tell beyond the bodies: each body's worker, the
     /// handoffs, the workers' reports.
     void describe_cluster(WorldFrame& frame, std::uint64_t from, std::uint64_t shown) const;
@@ -278,8 +288,13 @@ void Client::State::take() {
         mark.started_ns = m.started_ns();
         mark.time_lost = m.time_lost();
         for (const wire::SectorInventory& inventory : m.inventories()) {
-            // Answers to this client's request.
-            if (inventory.reader() != options.name || inventory.request() != inventory_request) continue;
+            // Answers to this client's requests since it began to sync. Not only the latest: a client slow
+            // to take its samples asked again every second and dropped every answer to an earlier request,
+            // and every answer came later than that (seen in a soak with a worker killed every 3 s: never
+            // synced).
+            if (inventory.reader() != options.name || inventory_since == 0 ||
+                inventory.request() < inventory_since)
+                continue;
             mark.inventory.emplace();
             for (const wire::SectorStamp& st : inventory.sectors()) {
                 const SectorKey key = dds::from_wire(st.sector());
@@ -377,10 +392,13 @@ void Client::State::ask_for_inventory() {
     if (requests_out->matched() < workers || marks_in->matched() < workers) return;
     wire::SectorRequest request;
     request.reader(options.name);
+    if (inventory_request == 0) {
+        inventory_since = next_sector_request;
+        for (auto& [at, mark] : marks)
+            mark.inventory.reset();  // answers to the requests of a sync before
+    }
     inventory_request = next_sector_request++;
     inventory_asked = std::chrono::steady_clock::now();
-    for (auto& [at, mark] : marks)
-        mark.inventory.reset();  // answers to the request before
     request.request(inventory_request);
     request.inventory(true);
     const SectorKey lo = options.region ? options.region->lo : SectorKey{INT64_MIN, INT64_MIN, INT64_MIN};
@@ -412,6 +430,17 @@ void Client::State::ask_for_whole_sectors() {
     request.reader(options.name);
     request.request(next_sector_request++);
     requests_out->write(request);
+}
+
+void Client::State::ask_for_lost(const std::set<SectorKey>& missing) {
+    // Samples in flight come within a few frames; a sample that has not come in a quarter of a second was
+    // lost: its writer's history moved past it before this reader took it (seen in the soak: a sector
+    // emptied in a frame whose samples a busy client lost, and every frame after waited on it for good,
+    // since an empty sector is not written again and only a refused partial sample asked for it).
+    constexpr std::chrono::milliseconds kLostAfter{250};
+    if (!synced || std::chrono::steady_clock::now() - std::max(last_progress, synced_at) < kLostAfter) return;
+    for (const SectorKey& key : missing)
+        wanted_whole.want(key);
 }
 
 bool Client::State::sync() {
@@ -460,8 +489,12 @@ bool Client::State::sync() {
         for (std::uint64_t g = f + 1; g <= start; ++g) {
             auto it = marks.find({w, g});
             if (it == marks.end()) {
-                // A gap: what it wrote then is unknown. Ask again.
-                inventory_request = 0;
+                // Not here yet (it answered a frame or two before another worker did, and its later marks
+                // are on their way): wait. A gap (a later mark of it is here): what it wrote then is
+                // unknown; ask again. Taken for a gap, a mark still on its way made a client ask again and
+                // drop the answers it had, for seconds after a worker was killed.
+                auto later = marks.lower_bound({w, g});
+                if (later != marks.end() && later->first.first == w) inventory_request = 0;
                 return false;
             }
             for (const SectorKey& key : it->second.written)
@@ -554,9 +587,17 @@ bool Client::State::inventories_held() const {
 }
 
 bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std::uint64_t>& stamps,
-                             const std::set<SectorKey>& passed) const {
+                             const std::set<SectorKey>& passed, std::set<SectorKey>* missing) const {
     const std::vector<std::uint32_t>* workers = workers_of(frame);
     if (workers == nullptr || !grid) return false;
+    bool held = true;
+    // Whether the sector is held as of `from` at `frame`; noted as missing if not.
+    auto holds = [&](const SectorKey& key, std::uint64_t from) {
+        if (chain.holds(key, from, frame)) return true;
+        held = false;
+        if (missing) missing->insert(key);
+        return missing != nullptr;  // go on only to collect
+    };
     for (std::uint32_t w : *workers) {
         if (!ended(w, frame)) return false;
         auto it = marks.find({w, frame});
@@ -565,24 +606,24 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
         // until those it counts (spawned or removed) have come.
         if (planes.size() != it->second.planes) return false;
         for (const SectorKey& key : it->second.written) {
-            if (!chain.holds(key, frame, frame)) return false;
+            if (!holds(key, frame)) return false;
         }
     }
     if (auto r = restored.find(frame); r != restored.end()) {
         for (const SectorKey& key : r->second.written) {
-            if (!chain.holds(key, frame, frame)) return false;
+            if (!holds(key, frame)) return false;
         }
     }
     for (const SectorKey& key : unconfirmed) {
-        if (!chain.holds(key, stamps.at(key), frame)) return false;
+        if (!holds(key, stamps.at(key))) return false;
     }
     // A sector written in a frame passed over and not since: its sample there must be held, or what the
     // mirror shows of it is older (seen in the soak: a partial sample refused for a missing base, the frames
     // after it skipped, and the bodies that had left the sector shown in it and in the sector they went to).
     for (const SectorKey& key : passed) {
-        if (!chain.holds(key, stamps.at(key), frame)) return false;
+        if (!holds(key, stamps.at(key))) return false;
     }
-    return true;
+    return held;
 }
 
 void Client::State::apply_until(std::uint64_t frame) {
@@ -755,9 +796,12 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         std::map<SectorKey, std::uint64_t> at = s.stamps;
         std::set<SectorKey> passed = s.passed_over;
         std::uint64_t show = 0, g = f;
+        // What the newest frame looked at waits for: asked for whole if nothing is shown for a while.
+        std::set<SectorKey> missing;
         if (s.inventories_held()) {
             for (std::set<SectorKey> written; show == 0 && s.stamp_frame(g, at, &written); ++g) {
-                if (s.complete(g, at, passed)) {
+                missing.clear();
+                if (s.complete(g, at, passed, &missing)) {
                     show = g;
                 } else {
                     passed.insert(written.begin(), written.end());
@@ -769,6 +813,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
                 ++g;  // where the marks stop, for mark_lost below
         }
         if (show == 0) {
+            s.ask_for_lost(missing);
             // Stopped at a frame whose marks are not all here. One that a later mark of its worker has
             // overtaken is lost for good (a worker's marks come in order; its writer keeps eight, and a
             // joiner flooded by the world's samples can fall that far behind): what was written then is
@@ -781,6 +826,7 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
         s.applied = show;
         s.unconfirmed.clear();  // complete() found each of them held
         s.passed_over.clear();
+        s.last_progress = std::chrono::steady_clock::now();
         out.push_back(s.options.content == FrameContent::changes ? s.changes_view(show) : s.frame_view(show));
         s.describe_cluster(out.back(), f, show);
         // Every worker's mark of a frame carries the coordinator's start of it.

@@ -623,8 +623,10 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     std::set<SectorKey> keys;
     for (const SectorKey& key : w.changed_sectors())
         keys.insert(key);
+    // An owned sector asked for that holds nothing is answered too, with an empty sample: a reader that lost
+    // the sample that emptied it waits for that.
     for (const SectorKey& key : whole_requested) {
-        if (publisher.publishes(key)) keys.insert(key);
+        if (publisher.publishes(key) || halo.owns(key)) keys.insert(key);
     }
     keys.insert(adopted.begin(), adopted.end());
     // Readers that asked for an inventory and that this worker's sector writer reaches: every sector of
@@ -692,7 +694,8 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         std::optional<wire::SectorFrame> sample;
         auto send_whole = [&] {
             const std::vector<BodySnapshot> all = w.sector_bodies(key);
-            if (all.empty() && !publisher.publishes(key) && !adopted.count(key))
+            if (all.empty() && !publisher.publishes(key) && !adopted.count(key) &&
+                !whole_requested.count(key))
                 return;  // nothing, never sent
             sample = publisher.whole(key, all, halo.near(w, all, radii_of(w, all)), frame, describe);
         };
