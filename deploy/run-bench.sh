@@ -21,7 +21,7 @@ template="$root/docs/results.template.md"
             name="${BASH_REMATCH[1]}"
             md="$out/$name/$name.md"
             if [[ -f "$md" ]]; then
-                sed "s#]($name.png)#](results/$name/$name.png)#" "$md"
+                sed -E "s#\]\(($name[A-Za-z0-9_-]*\.png)\)#](results/$name/\1)#g" "$md"
             else
                 echo "(not measured yet: run deploy/run-bench.sh $name)"
             fi
