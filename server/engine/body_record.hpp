@@ -1,4 +1,4 @@
-// The engine's record of one body: its Bullet objects, where it lives, its reach and its clones.
+// The engine's record of one body: its Bullet objects, where it lives, its border entry and its clones.
 #pragma once
 
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
@@ -35,6 +35,25 @@ struct Clone {
     std::uint64_t confirmed_frame = 0;  ///< last frame the cloning stage found it needed
 };
 
+/// A body's entry in the BorderIndex (border_index.hpp): this frame's tight reach; a fat box, in the
+/// owner's frame, that holds every place the body may sweep until it is refreshed; its leaves in the cell
+/// trees it enters; and its partners. Only the index writes it.
+struct BorderEntry {
+    std::vector<std::uint32_t> partners;  ///< bodies of other sectors that may touch it
+    Aabb reach;
+    std::uint64_t reach_frame = 0;  ///< the frame `reach` was computed in
+    Aabb fat;
+    /// The sector whose frame `fat` is in (a key: the frame is the sector's centre, whatever becomes of
+    /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
+    SectorKey fat_frame;
+    bool has_fat = false;
+    struct Leaf {
+        SectorKey cell;
+        btDbvtNode* node = nullptr;
+    };
+    std::vector<Leaf> leaves;
+};
+
 /// Hot fields first: the stages walk these records every frame.
 struct BodyRecord {
     // Read by every stage, every frame.
@@ -48,25 +67,11 @@ struct BodyRecord {
     /// Position of the original in its owner sector's frame, in double: the float engine's position is
     /// this rounded (see World::Impl::track_position).
     Eigen::Vector3d local = Eigen::Vector3d::Zero();
-    std::vector<std::uint32_t> partners;  ///< bodies of other sectors that may touch it (reach.cpp)
     std::uint64_t visit_frame = 0;
     bool departing = false;         ///< listed in World::Impl::departing
     std::uint64_t moved_frame = 0;  ///< the frame the step found it active (recorded in the change log once)
 
-    // Reach (see reach.cpp): this frame's tight reach; a fat box, in the owner's frame, that holds every
-    // place the body may sweep until it is refreshed; and its leaves in the cell trees it enters.
-    Aabb reach;
-    std::uint64_t reach_frame = 0;  ///< the frame `reach` was computed in
-    Aabb fat;
-    /// The sector whose frame `fat` is in (a key: the frame is the sector's centre, whatever becomes of
-    /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
-    SectorKey fat_frame;
-    bool has_fat = false;
-    struct Leaf {
-        SectorKey cell;
-        btDbvtNode* node = nullptr;
-    };
-    std::vector<Leaf> leaves;
+    BorderEntry border;  ///< kept by the BorderIndex
 
     std::vector<Clone> clones;
     std::vector<std::unique_ptr<btRigidBody>> spare_clones;

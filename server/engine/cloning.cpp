@@ -1,4 +1,5 @@
-// Stage 2, cloning (paper section 3.2). reach.cpp keeps, for every body, its *partners*: the bodies of
+// Stage 2, cloning (paper section 3.2). The border index (border_index.hpp) keeps, for every body, its
+// *partners*: the bodies of
 // other sectors whose fat reach boxes overlap its own. For every sector about to be stepped, each of its
 // dynamic bodies needs, in that sector, a clone of each partner whose reach (its box swept by this
 // frame's motion) meets its own. This covers the paper's three cases:
@@ -25,7 +26,7 @@ using engine::SectorId;
 void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     if (!options.monolithic) {
         for (std::uint32_t slot : candidates)
-            update_reach(slot);
+            border.update(slot, frame);
     }
 
     // Sectors to step: those holding awake originals...
@@ -63,10 +64,12 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     // ghosts (moved by set_state this frame) count too: their copies may push this process's bodies.
     auto extend_from = [&](std::uint32_t slot) {
         const BodyRecord& rec = record(slot);
-        if (rec.partners.empty() || !rec.dynamic || !rec.rb->isActive()) return;
-        for (std::uint32_t other : rec.partners) {
+        const std::vector<std::uint32_t>& partners = border.partners(slot);
+        if (partners.empty() || !rec.dynamic || !rec.rb->isActive()) return;
+        for (std::uint32_t other : partners) {
             Sector& target = sector_of(record(other));
-            if (record(other).dynamic && !target.stepping && !target.remote && reaches_meet(slot, other)) {
+            if (record(other).dynamic && !target.stepping && !target.remote &&
+                border.reaches_meet(slot, other, frame)) {
                 target.stepping = true;
                 step_set.push_back(target.id);
             }
@@ -84,10 +87,10 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     // Every dynamic body of a stepped sector needs its partners there.
     for (SectorId target : step_set) {
         for (std::uint32_t slot : sectors.at(target).originals) {
-            const BodyRecord& rec = record(slot);
-            if (rec.partners.empty() || !rec.dynamic) continue;
-            for (std::uint32_t other : rec.partners) {
-                if (reaches_meet(slot, other)) requirements.emplace_back(target, other);
+            const std::vector<std::uint32_t>& partners = border.partners(slot);
+            if (partners.empty() || !record(slot).dynamic) continue;
+            for (std::uint32_t other : partners) {
+                if (border.reaches_meet(slot, other, frame)) requirements.emplace_back(target, other);
             }
         }
     }

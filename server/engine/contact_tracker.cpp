@@ -1,68 +1,60 @@
-// Contact events. Each sector keeps the pairs that touched at its last step; a pair may be seen by
-// several sectors (an original and the clone of its partner on each side of a border), so the world
-// counts the sectors reporting each pair. The events of a frame compare each changed pair's count
-// before and after the frame: from zero, it began; to zero, it ended. A body changing sector is seen
-// by its new sector in the same frame as it leaves the old one, and so causes no event. A sector not
-// stepped keeps its pairs: nothing in it moved.
+#include "contact_tracker.hpp"
+
 #include <algorithm>
 
-#include "world_impl.hpp"
+namespace lpss::engine {
 
-namespace lpss {
-
-using engine::ContactRecord;
-using engine::Sector;
-
-void World::Impl::count_contact(const ContactRecord& contact, const SectorKey& where, int delta) {
+void ContactTracker::count(const ContactRecord& contact, const SectorKey& where, int delta) {
     auto key = std::make_pair(contact.a, contact.b);
-    auto it = touching.find(key);
-    int count = it == touching.end() ? 0 : it->second;
-    auto [change, first] = changed_pairs.try_emplace(key, PairChange{count, contact, where, delta > 0});
+    auto it = touching_.find(key);
+    int count = it == touching_.end() ? 0 : it->second;
+    auto [change, first] = changed_pairs_.try_emplace(key, PairChange{count, contact, where, delta > 0});
     if (!first && delta > 0 && !change->second.seen) {
         change->second = PairChange{change->second.before, contact, where, true};
     }
     count += delta;
     if (count > 0) {
-        touching[key] = count;
-    } else if (it != touching.end()) {
-        touching.erase(it);
+        touching_[key] = count;
+    } else if (it != touching_.end()) {
+        touching_.erase(it);
     }
 }
 
-void World::Impl::forget_contacts(Sector& sector, BodyId id) {
+void ContactTracker::forget(std::vector<ContactRecord>& pairs, const SectorKey& where, BodyId id) {
     auto involved = [id](const ContactRecord& c) { return c.a == id || c.b == id; };
-    for (const ContactRecord& c : sector.contacts) {
-        if (involved(c)) count_contact(c, sector.key, -1);
+    for (const ContactRecord& c : pairs) {
+        if (involved(c)) count(c, where, -1);
     }
-    sector.contacts.erase(std::remove_if(sector.contacts.begin(), sector.contacts.end(), involved),
-                          sector.contacts.end());
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(), involved), pairs.end());
 }
 
-void World::Impl::merge_contacts() {
+void ContactTracker::forget_all(std::vector<ContactRecord>& pairs, const SectorKey& where) {
+    for (const ContactRecord& c : pairs)
+        count(c, where, -1);
+    pairs.clear();
+}
+
+void ContactTracker::replace(const SectorKey& where, const std::vector<ContactRecord>& old_pairs,
+                             const std::vector<ContactRecord>& new_pairs) {
     auto before = [](const ContactRecord& x, const ContactRecord& y) {
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     };
-    for (engine::SectorId id : step_set) {
-        Sector* sector = &sectors.at(id);
-        const std::vector<ContactRecord>& old_pairs = sector->contacts;
-        const std::vector<ContactRecord>& new_pairs = sector->fresh_contacts;
-        std::size_t i = 0, j = 0;
-        while (i < old_pairs.size() || j < new_pairs.size()) {
-            if (j == new_pairs.size() || (i < old_pairs.size() && before(old_pairs[i], new_pairs[j]))) {
-                count_contact(old_pairs[i++], sector->key, -1);
-            } else if (i == old_pairs.size() || before(new_pairs[j], old_pairs[i])) {
-                count_contact(new_pairs[j++], sector->key, +1);
-            } else {
-                ++i, ++j;
-            }
+    std::size_t i = 0, j = 0;
+    while (i < old_pairs.size() || j < new_pairs.size()) {
+        if (j == new_pairs.size() || (i < old_pairs.size() && before(old_pairs[i], new_pairs[j]))) {
+            count(old_pairs[i++], where, -1);
+        } else if (i == old_pairs.size() || before(new_pairs[j], old_pairs[i])) {
+            count(new_pairs[j++], where, +1);
+        } else {
+            ++i, ++j;
         }
-        sector->contacts.swap(sector->fresh_contacts);
-        if (sector->awake) wake(*sector);
     }
+}
 
-    events.clear();
-    for (const auto& [key, change] : changed_pairs) {
-        bool now = touching.count(key) != 0;
+void ContactTracker::make_events() {
+    events_.clear();
+    for (const auto& [key, change] : changed_pairs_) {
+        bool now = touching_.count(key) != 0;
         if (change.before == 0 && now) {
             ContactEvent event;
             event.kind = ContactEvent::Kind::Begin;
@@ -71,20 +63,25 @@ void World::Impl::merge_contacts() {
             event.point = SectorPosition{change.where, change.record.point};
             event.normal = change.record.normal.cast<double>();
             event.impulse = change.record.impulse;
-            events.push_back(event);
+            events_.push_back(event);
         } else if (change.before > 0 && !now) {
             ContactEvent event;
             event.kind = ContactEvent::Kind::End;
             event.a = key.first;
             event.b = key.second;
-            events.push_back(event);
+            events_.push_back(event);
         }
     }
-    changed_pairs.clear();
-    std::sort(events.begin(), events.end(), [](const ContactEvent& x, const ContactEvent& y) {
+    changed_pairs_.clear();
+    std::sort(events_.begin(), events_.end(), [](const ContactEvent& x, const ContactEvent& y) {
         if (x.kind != y.kind) return x.kind < y.kind;
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     });
 }
 
-}  // namespace lpss
+int ContactTracker::sectors_seeing(BodyId a, BodyId b) const {
+    auto it = touching_.find(std::make_pair(a, b));
+    return it == touching_.end() ? 0 : it->second;
+}
+
+}  // namespace lpss::engine

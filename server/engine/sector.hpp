@@ -14,21 +14,13 @@
 #include <vector>
 
 #include "bullet_convert.hpp"
+#include "contact_tracker.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
 #include "lpss/common/world_settings.hpp"
 #include "sector_id.hpp"
 
 namespace lpss::engine {
-
-/// A touching pair seen by one sector's last step, with the ids the user knows.
-struct ContactRecord {
-    BodyId a = 0;  ///< a < b
-    BodyId b = 0;
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< sector-local
-    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
-    float impulse = 0.0f;
-};
 
 /// Bullet's dynamics world, with two changes:
 /// - it gives back the manifolds of its last step's predictive (CCD) contacts when it is destroyed:

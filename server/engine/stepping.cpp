@@ -1,7 +1,8 @@
 // Stage 3, stepping: every sector in this frame's step set advances by dt, concurrently. A sector is
 // only touched by the thread stepping it, and each thread brings its own solver (Debian's Bullet is
 // not thread-safe: see shared_collision_configuration.hpp). After its step a sector records, for the
-// next frame, whether it still holds anything awake, which originals were active, and what touches.
+// next frame, whether it still holds anything awake, which originals were active, and what touches;
+// then (merge_contacts) the stepped sectors hand what touched to the contact tracker.
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include <algorithm>
@@ -141,6 +142,18 @@ void World::Impl::step_sectors() {
         // Last: moving the anchor leaves the manifolds' world points stale until the next step.
         follow_bodies(sector);
     });
+}
+
+void World::Impl::merge_contacts() {
+    // In step-set order, so that a pair seen by several sectors takes its Begin event from the same one
+    // in every run.
+    for (engine::SectorId id : step_set) {
+        Sector& sector = sectors.at(id);
+        contacts.replace(sector.key, sector.contacts, sector.fresh_contacts);
+        sector.contacts.swap(sector.fresh_contacts);
+        if (sector.awake) wake(sector);
+    }
+    contacts.make_events();
 }
 
 }  // namespace lpss

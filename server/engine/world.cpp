@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <unordered_set>
 
 #include "bullet_convert.hpp"
@@ -46,9 +47,6 @@ World::Impl::Impl(const WorldSettings& s, const EngineOptions& o)
       options(o),
       grid(s.sector_size),
       band(o.monolithic ? std::numeric_limits<double>::infinity() : s.sector_size * (0.5 + s.hysteresis)),
-      // Bullet tracks contact points up to gContactBreakingThreshold apart; its broadphase boxes carry
-      // that margin once refreshed by a step, not when just inserted. Reach boxes add twice the margin.
-      reach_margin(2.0 * gContactBreakingThreshold + 0.01),
       precise_positions(o.double_positions && !o.monolithic),
       // A power of two, about L/64: far coarser than the float spacing inside a sector, so shifting by
       // an anchor is exact, and fine enough to keep the bodies' coordinates small.
@@ -152,9 +150,7 @@ void World::Impl::destroy_sector(Sector& sector) {
             release_clone(slot, sector);
         }
     }
-    for (const engine::ContactRecord& c : sector.contacts)
-        count_contact(c, sector.key, -1);
-    sector.contacts.clear();
+    contacts.forget_all(sector.contacts, sector.key);
     erase_value(awake_list, sector.id);
     erase_value(step_set, sector.id);
     sectors.erase(sector.id);
@@ -319,8 +315,7 @@ Status World::remove_body(BodyId id) {
         sector.originals[rec.index_in_sector] = moved;
         w.record(moved).index_in_sector = rec.index_in_sector;
         sector.originals.pop_back();
-        w.drop_pairs(slot);
-        w.remove_leaves(slot);
+        w.border.remove(slot);
         w.changes.left(sector.key, id);
         if (sector.originals.empty()) w.destroy_sector(sector);
     }
@@ -663,10 +658,10 @@ void World::Impl::step() {
     stats.bodies = slots.size();
     stats.sectors = sectors.size();
     stats.stepped_sectors = step_set.size();
-    stats.border_bodies = border_bodies;
+    stats.border_bodies = border.border_bodies();
     stats.clones = clone_count;
     stats.spare_clones = spare_count;
-    stats.touching_pairs = touching.size();
+    stats.touching_pairs = contacts.touching_pairs();
     stats.total_seconds = seconds_since(start);
 }
 
@@ -723,7 +718,7 @@ double World::bounding_radius(BodyId id) const {
     return impl_->record(slot.value()).bound_radius;
 }
 
-const std::vector<ContactEvent>& World::contact_events() const { return impl_->events; }
+const std::vector<ContactEvent>& World::contact_events() const { return impl_->contacts.events(); }
 const FrameStats& World::last_frame_stats() const { return impl_->stats; }
 
 std::optional<CloneCounts> World::clone_counts(BodyId id) const {
@@ -802,10 +797,10 @@ Status World::check_consistency() const {
         const double frame_motion = to_eigen(rb.getLinearVelocity()).norm() * w.settings.dt;
         const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size + frame_motion : 0.0);
         if (rec.local.cwiseAbs().maxCoeff() > reach) return fail(rec, "lies far outside its sector");
-        for (std::uint32_t other : rec.partners) {
+        for (std::uint32_t other : w.border.partners(slot)) {
             const BodyRecord& partner = w.bodies[other];
             if (!partner.alive || partner.plane) return fail(rec, "has a partner that is gone");
-            if (!lists(partner.partners, slot)) return fail(rec, "is not its partner's partner");
+            if (!lists(w.border.partners(other), slot)) return fail(rec, "is not its partner's partner");
         }
     }
     if (alive != w.slots.size()) return Error{"body count and id index disagree"};
@@ -813,8 +808,11 @@ Status World::check_consistency() const {
     if (spares != w.spare_count) return Error{"spare clone count disagrees with the bodies' pools"};
     std::size_t listed = 0;
     Status sectors_ok;
+    std::map<std::pair<BodyId, BodyId>, int> seeing;  // touching pair -> sectors whose last step saw it
     w.sectors.for_each([&](const Sector& sector) {
         listed += sector.originals.size();
+        for (const engine::ContactRecord& c : sector.contacts)
+            ++seeing[{c.a, c.b}];
         // An empty sector waits for the next step's sectorization to end it, and for nothing else.
         if (sector.originals.empty() && sectors_ok &&
             std::find(w.pending_destroy.begin(), w.pending_destroy.end(), sector.id) ==
@@ -822,6 +820,16 @@ Status World::check_consistency() const {
             sectors_ok = Error{"a sector owns no body but is not queued for destruction"};
     });
     if (!sectors_ok) return sectors_ok;
+    if (seeing.size() != w.contacts.touching_pairs())
+        return Error{"the contact tracker counts " + std::to_string(w.contacts.touching_pairs()) +
+                     " touching pairs, the sectors see " + std::to_string(seeing.size())};
+    for (const auto& [pair, count] : seeing) {
+        if (w.contacts.sectors_seeing(pair.first, pair.second) != count)
+            return Error{"the contact tracker counts bodies " + std::to_string(pair.first) + " and " +
+                         std::to_string(pair.second) + " touching in " +
+                         std::to_string(w.contacts.sectors_seeing(pair.first, pair.second)) + " sectors, " +
+                         std::to_string(count) + " see it"};
+    }
     if (listed != owned)
         return Error{"sectors list " + std::to_string(listed) + " bodies, " + std::to_string(owned) +
                      " bodies are owned"};

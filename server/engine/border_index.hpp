@@ -1,0 +1,83 @@
+// The border index: which bodies of different sectors may touch, found incrementally.
+//
+// Each body keeps a *fat* reach box, in its owner sector's frame: its bounding box swept by the motion of
+// the coming frames and grown by a slack, so that it changes only when the body has moved by that slack
+// (the fat boxes of Box2D's dynamic tree, for the same reason). Where a fat box enters cells of the grid
+// other than its owner's, it is a leaf in those cells' trees. Bodies of different sectors whose fat boxes
+// overlap are *partners*: the pairs that need clones. They meet either in a cell foreign to both (both
+// are leaves there) or in the cell of one of them (the other is a leaf there, and the cell's own bodies
+// are found through its Bullet broadphase). Partners are kept from frame to frame and re-examined only
+// for a body whose fat box changed, so the per-frame cost follows the bodies that move out of their
+// slack; a body whose fat box stays inside its sector, in a cell nobody reaches into, costs a lookup.
+//
+// As Box2D's b2BroadPhase owns its trees and pair set while each shape keeps its own fat box, the index
+// owns the cell trees and each body record keeps its BorderEntry; the cloning stage only asks it.
+#pragma once
+
+#include <BulletCollision/BroadphaseCollision/btDbvt.h>
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "aabb.hpp"
+#include "body_record.hpp"
+#include "lpss/common/sector_grid.hpp"
+#include "lpss/common/world_settings.hpp"
+#include "sector_table.hpp"
+
+namespace lpss::engine {
+
+class BorderIndex {
+public:
+    /// `bodies` and `sectors` are the world's, which outlive the index. Serial only: never called from
+    /// the threads that step sectors.
+    BorderIndex(const WorldSettings& settings, std::vector<BodyRecord>& bodies, SectorTable& sectors);
+    BorderIndex(const BorderIndex&) = delete;
+    BorderIndex& operator=(const BorderIndex&) = delete;
+
+    /// Brings a body's fat box, leaves and partners up to date for `frame`: a new fat box only when the
+    /// tight reach has left the old one or the body changed sector. Partners are found only among bodies
+    /// already placed, so bodies are updated in a fixed order (the candidates' order) for reproducibility.
+    void update(std::uint32_t slot, std::uint64_t frame);
+    /// Whether two bodies of different sectors may touch in `frame`: their tight reaches meet.
+    bool reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame);
+    /// The bodies of other sectors that may touch this one (its fat box overlaps theirs).
+    const std::vector<std::uint32_t>& partners(std::uint32_t slot) const {
+        return bodies_[slot].border.partners;
+    }
+    /// Takes a body out: its leaves, and its pairs on both sides. Before its slot is reused.
+    void remove(std::uint32_t slot);
+    /// Bodies whose fat box enters another cell.
+    std::size_t border_bodies() const { return border_bodies_; }
+
+private:
+    struct CellTree {
+        btDbvt tree;
+    };
+
+    Aabb tight_reach(const BodyRecord& record) const;
+    /// This frame's tight reach, computed once per frame.
+    const Aabb& current_reach(std::uint32_t slot, std::uint64_t frame);
+    void place_leaves(std::uint32_t slot);
+    void remove_leaves(std::uint32_t slot);
+    void refresh_pairs(std::uint32_t slot);
+    void drop_pairs(std::uint32_t slot);
+    bool fat_overlap(const BorderEntry& a, const BorderEntry& b) const;
+    Sector& sector_of(const BodyRecord& record) const { return sectors_.at(record.sector); }
+
+    SectorGrid grid_;
+    double sector_size_;
+    double reach_dt_;  ///< the time a tight reach sweeps: the last substep and the coming frame
+    double frame_dt_;
+    double reach_margin_;  ///< contact distance added to every reach box
+    std::vector<BodyRecord>& bodies_;
+    SectorTable& sectors_;
+    /// For each cell some body's fat box touches, the tree of those boxes.
+    std::unordered_map<SectorKey, std::unique_ptr<CellTree>, SectorKeyHash> cell_trees_;
+    std::size_t border_bodies_ = 0;
+    std::vector<std::uint32_t> found_scratch_;  ///< kept to avoid allocation per refresh
+};
+
+}  // namespace lpss::engine
