@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", options.profile,
                    "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--security", options.security,
+                   "DDS Security identity folder (deploy/security/identities.sh; default: none)");
     app.add_option("--region", region, "follow only sectors i_lo,i_hi,j_lo,j_hi,k_lo,k_hi");
     app.add_option("--dis-address", address,
                    "where PDUs go (default 127.0.0.1; a broadcast one needs --broadcast)");

@@ -190,7 +190,8 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     auto state = std::make_unique<State>();
     state->options = options;
     Expected<std::unique_ptr<dds::Participant>> participant =
-        dds::Participant::create(options.domain, options.profile, "lpss-client-" + options.name);
+        dds::Participant::create(options.domain, options.profile, "lpss-client-" + options.name, {},
+                                 options.security);
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;
@@ -219,10 +220,16 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
         p, p.topic<wire::CommandPubSubType>(kCommands), writer_qos(kCommandDelivery));
     state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
         p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
+    // Under DDS Security an observer's identity may not write commands: access control refuses the writer,
+    // and the client goes on without one (its commands are refused, with that reason).
+    if (!state->commands_out->ok() && !options.security.empty()) state->commands_out.reset();
     if (!state->frames_in->ok() || !state->marks_in->ok() || !state->assignment_in->ok() ||
-        !state->planes_in->ok() || !state->results_in->ok() || !state->commands_out->ok() ||
-        !state->requests_out->ok()) {
-        return Error{"cannot create the client's DDS readers and writers"};
+        !state->planes_in->ok() || !state->results_in->ok() ||
+        (state->commands_out && !state->commands_out->ok()) || !state->requests_out->ok()) {
+        return Error{"cannot create the client's DDS readers and writers" +
+                     std::string(options.security.empty() ? ""
+                                                          : " (does the identity in " + options.security +
+                                                                " permit reading lpss's topics?)")};
     }
     return std::unique_ptr<Client>(new Client(std::move(state)));
 }
@@ -352,6 +359,8 @@ void Client::State::say_ready() {
         if (!hellos.count(w)) return;
     }
     const int writers = static_cast<int>(workers_from.rbegin()->second.size()) + 1;  // workers, coordinator
+    // A client that may not write commands cannot say it is ready: a cluster cannot await it.
+    if (!commands_out) return;
     if (commands_out->matched() < 1 || assignment_in->matched() < 1 || planes_in->matched() < 1 ||
         marks_in->matched() < writers || frames_in->matched() < writers || results_in->matched() < writers ||
         requests_out->matched() < writers - 1)
@@ -855,7 +864,7 @@ bool Client::wait_for_cluster(std::chrono::milliseconds limit) {
     auto connected = [&] {
         const int workers =
             s.workers_from.empty() ? 0 : static_cast<int>(s.workers_from.rbegin()->second.size());
-        return s.grid && s.commands_out->matched() > 0 &&
+        return s.grid && (!s.commands_out || s.commands_out->matched() > 0) &&
                s.results_in->matched() >= workers + 1;  // coordinator, workers
     };
     const auto end = std::chrono::steady_clock::now() + limit;
@@ -906,6 +915,13 @@ std::uint64_t Client::State::send(wire::Command command) {
     const std::uint64_t request = next_request++;
     command.client(options.name);
     command.request(request);
+    if (!commands_out) {
+        outcomes[request] = CommandOutcome{false, 0, 0,
+                                           "this client's identity (" + options.security +
+                                               ") may not send commands: DDS access control refused its "
+                                               "commands writer (an operator identity may)"};
+        return request;
+    }
     commands_out->write(command);
     return request;
 }

@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", options.profile,
                    "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--security", options.security,
+                   "DDS Security identity folder (deploy/security/identities.sh; default: none)");
     app.add_option("--region", region, "follow only sectors i_lo,i_hi,j_lo,j_hi,k_lo,k_hi");
     app.add_option("--csv", csv_path, "write every body of every frame as CSV to this file ('-': stdout)");
     app.add_option("--frames", frames, "exit after this many frames (0: until Ctrl-C)");

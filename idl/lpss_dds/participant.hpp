@@ -62,9 +62,11 @@ public:
     /// the same id in a process is, to peers that never heard the first one leave (a link cut), the first
     /// one, whose samples they have had: they drop what it writes (seen: a worker that joined again after a
     /// cut, its request to join never read).
+    /// `security`: an identity folder (deploy/security/identities.sh) for DDS Security; none when empty.
     static Expected<std::unique_ptr<Participant>> create(int domain, const std::string& profile_file,
                                                          const std::string& name,
-                                                         const std::set<int>& avoid = {});
+                                                         const std::set<int>& avoid = {},
+                                                         const std::string& security = "");
     ~Participant();
     Participant(const Participant&) = delete;
     Participant& operator=(const Participant&) = delete;

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "lpss_dds/sector_filters.hpp"
+#include "lpss_dds/security.hpp"
 #include "lpss_dds/shm_cleanup.hpp"
 #include "lpss_dds/topics.hpp"
 
@@ -80,13 +81,17 @@ void apply_dds_log_verbosity() {
 
 Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std::string& profile_file,
                                                            const std::string& name,
-                                                           const std::set<int>& avoid) {
+                                                           const std::set<int>& avoid,
+                                                           const std::string& security) {
     if (domain < 0 || domain > 232)
         return Error{"DDS domain id must be between 0 and 232, got " + std::to_string(domain)};
     apply_dds_log_verbosity();
     Expected<fdds::DomainParticipantQos> qos = participant_qos(profile_file);
     if (!qos) return qos.error();
     qos->name(name);
+    if (!security.empty()) {
+        if (Status st = apply_security(*qos, security); !st) return st.error();
+    }
     std::unique_ptr<Participant> p(new Participant());
     p->domain_ = domain;
     // Shared-memory ports no process has used since they were last cleaned (see shm_cleanup.hpp), unless
@@ -114,8 +119,13 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
         p->participant_ = factory->create_participant(domain, qos.value());
         p->participant_id_ = qos->wire_protocol().participant_id;
     }
-    if (p->participant_ == nullptr)
-        return Error{"cannot create a DDS participant on domain " + std::to_string(domain)};
+    if (p->participant_ == nullptr) {
+        return Error{"cannot create a DDS participant on domain " + std::to_string(domain) +
+                     (security.empty() ? std::string()
+                                       : " with the identity in " + security +
+                                             " (Fast DDS refused it: an expired or revoked certificate, or "
+                                             "signatures not from its CAs? LPSS_DDS_SECURITY_LOG=FILE says more)")};
+    }
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     p->filter_factory_ = std::make_unique<SectorFilterFactory>();

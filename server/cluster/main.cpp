@@ -47,7 +47,7 @@ double mib(std::uint64_t bytes) { return static_cast<double>(bytes) / 1048576.0;
 
 int main(int argc, char** argv) {
     CLI::App app{"lpss-cluster: runs a scene on a coordinator and N workers on this machine"};
-    std::string scene_path, profile, log_dir;
+    std::string scene_path, profile, log_dir, security;
     std::uint32_t workers = 2;
     std::uint64_t frames = 0;
     bool realtime = false, quiet = false;
@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
     app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", profile,
                    "Fast DDS XML profile for every process (default: built-in, this machine only)");
+    app.add_option("--security", security,
+                   "DDS Security: the folder deploy/security/identities.sh made; the coordinators take its "
+                   "coordinator identity, the workers its worker identity, this program its observer's");
     app.add_option("--threads", threads, "threads per worker")->check(CLI::Range(1, 256));
     app.add_option("--log-dir", log_dir, "where the children's logs go (default: a new folder under /tmp)");
     app.add_flag("--quiet", quiet, "no live summary, only the final one");
@@ -107,9 +110,21 @@ int main(int argc, char** argv) {
     }
     std::vector<std::string> common = {"--domain", std::to_string(domain)};
     if (!profile.empty()) common.insert(common.end(), {"--profile", profile});
+    // Each process its role's identity (a folder of its own, as on separate hosts).
+    auto identity = [&](const char* role) {
+        return security.empty() ? std::string() : (std::filesystem::path(security) / role).string();
+    };
+    for (const char* role : {"coordinator", "worker", "observer"}) {
+        if (!security.empty() && !std::filesystem::is_directory(identity(role))) {
+            std::fprintf(stderr, "lpss-cluster: --security %s holds no %s identity (make them with "
+                                 "deploy/security/identities.sh init %s)\n",
+                         security.c_str(), role, security.c_str());
+            return 2;
+        }
+    }
 
     // The monitor joins first, so that it sees everything from the first frame.
-    auto participant = lpss::dds::Participant::create(domain, profile, "lpss-cluster");
+    auto participant = lpss::dds::Participant::create(domain, profile, "lpss-cluster", {}, identity("observer"));
     if (!participant) {
         std::fprintf(stderr, "lpss-cluster: cannot start DDS: %s\n", participant.error().message.c_str());
         return 2;
@@ -126,6 +141,7 @@ int main(int argc, char** argv) {
     auto worker_args = [&](std::uint32_t w) {
         std::vector<std::string> args = common;
         args.insert(args.end(), {"--id", std::to_string(w), "--threads", std::to_string(threads)});
+        if (!security.empty()) args.insert(args.end(), {"--security", identity("worker")});
         return args;
     };
     for (std::uint32_t w = 1; w <= workers; ++w) {
@@ -144,6 +160,7 @@ int main(int argc, char** argv) {
          std::to_string(block_size), "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
          std::to_string(await_clients), "--command-rate", fmt::format("{}", command_rate)});
     if (realtime) args.push_back("--realtime");
+    if (!security.empty()) args.insert(args.end(), {"--security", identity("coordinator")});
     // The standby first, so that it follows the world from its first state; the coordinator waits for it.
     std::optional<ChildProcess> standby;
     bool standby_gone = false;  ///< ended before the coordinator (said once)

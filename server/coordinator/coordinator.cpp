@@ -62,7 +62,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     state->options = options;
     state->command_rate = CommandRate(options.command_rate);
     Expected<std::unique_ptr<dds::Participant>> participant =
-        dds::Participant::create(options.domain, options.profile, "lpss-coordinator");
+        dds::Participant::create(options.domain, options.profile, "lpss-coordinator", {}, options.security);
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;

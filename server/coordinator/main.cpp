@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
     app.add_flag("--realtime", o.realtime, "pace frames at the scene's dt");
     app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", o.profile, "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--security", o.security,
+                   "DDS Security identity folder (deploy/security/identities.sh; default: none)");
     app.add_option("--block-size", o.block_size, "sectors per block edge in assignments")
         ->check(CLI::Range(1, 1 << 20));
     app.add_option("--rebalance-every", o.rebalance_every, "frames between load checks (0: never)");

@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", options.profile,
                    "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option("--security", options.security,
+                   "DDS Security identity folder (deploy/security/identities.sh; default: none)");
     app.add_option("--threads", options.threads, "threads stepping sectors")->check(CLI::Range(1, 256));
     app.add_option("--border-wait-ms", border_wait_ms, "longest wait for other workers' data before a frame");
     app.add_option("--coordinator-wait-s", coordinator_wait_s, "how long to wait for a coordinator");

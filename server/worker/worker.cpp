@@ -206,7 +206,7 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     auto state = std::make_unique<State>(options);
     Expected<std::unique_ptr<dds::Participant>> participant =
         dds::Participant::create(options.domain, options.profile, "lpss-worker-" + std::to_string(options.id),
-                                 options.avoid_participant_ids);
+                                 options.avoid_participant_ids, options.security);
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;

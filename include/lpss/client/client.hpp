@@ -42,6 +42,9 @@ enum class FrameContent {
 struct ClientOptions {
     int domain = 0;
     std::string profile;           ///< Fast DDS XML profile; empty: the built-in local one
+    /// DDS Security identity folder (deploy/security/identities.sh: an observer's, or an operator's to send
+    /// commands); empty: none, and a secured cluster is then out of reach.
+    std::string security;
     std::string name = "client";   ///< names this client's commands
     std::optional<Region> region;  ///< follow only these sectors (filtered by DDS); the whole world if empty
     FrameContent content = FrameContent::every_body;
