@@ -189,9 +189,8 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     if (options.name.empty()) return Error{"a client needs a name (its commands carry it)"};
     auto state = std::make_unique<State>();
     state->options = options;
-    Expected<std::unique_ptr<dds::Participant>> participant =
-        dds::Participant::create(options.domain, options.profile, "lpss-client-" + options.name, {},
-                                 options.security);
+    Expected<std::unique_ptr<dds::Participant>> participant = dds::Participant::create(
+        options.domain, options.profile, "lpss-client-" + options.name, {}, options.security);
     if (!participant) return participant.error();
     state->participant = std::move(participant).value();
     dds::Participant& p = *state->participant;

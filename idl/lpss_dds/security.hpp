@@ -12,7 +12,7 @@
 namespace lpss::dds {
 
 /// The files an identity folder holds; crl.pem is optional (without it no certificate is taken as revoked).
-inline constexpr const char* kIdentityFiles[] = {"identity_ca.pem", "cert.pem",        "key.pem",
+inline constexpr const char* kIdentityFiles[] = {"identity_ca.pem",    "cert.pem",       "key.pem",
                                                  "permissions_ca.pem", "governance.p7s", "permissions.p7s"};
 
 /// Turns on authentication, access control and encryption in `qos` with the identity in `folder`. Refused,

@@ -121,10 +121,11 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
     }
     if (p->participant_ == nullptr) {
         return Error{"cannot create a DDS participant on domain " + std::to_string(domain) +
-                     (security.empty() ? std::string()
-                                       : " with the identity in " + security +
-                                             " (Fast DDS refused it: an expired or revoked certificate, or "
-                                             "signatures not from its CAs? LPSS_DDS_SECURITY_LOG=FILE says more)")};
+                     (security.empty()
+                          ? std::string()
+                          : " with the identity in " + security +
+                                " (Fast DDS refused it: an expired or revoked certificate, or "
+                                "signatures not from its CAs? LPSS_DDS_SECURITY_LOG=FILE says more)")};
     }
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

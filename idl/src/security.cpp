@@ -12,7 +12,8 @@ Status apply_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const s
     std::error_code error;
     const fs::path root = fs::absolute(folder, error);
     if (error || !fs::is_directory(root))
-        return Error{"--security " + folder + ": not a folder (make identities with deploy/security/identities.sh)"};
+        return Error{"--security " + folder +
+                     ": not a folder (make identities with deploy/security/identities.sh)"};
     for (const char* file : kIdentityFiles) {
         if (!fs::is_regular_file(root / file))
             return Error{"--security " + folder + ": the identity lacks " + file +

@@ -116,15 +116,17 @@ int main(int argc, char** argv) {
     };
     for (const char* role : {"coordinator", "worker", "observer"}) {
         if (!security.empty() && !std::filesystem::is_directory(identity(role))) {
-            std::fprintf(stderr, "lpss-cluster: --security %s holds no %s identity (make them with "
-                                 "deploy/security/identities.sh init %s)\n",
+            std::fprintf(stderr,
+                         "lpss-cluster: --security %s holds no %s identity (make them with "
+                         "deploy/security/identities.sh init %s)\n",
                          security.c_str(), role, security.c_str());
             return 2;
         }
     }
 
     // The monitor joins first, so that it sees everything from the first frame.
-    auto participant = lpss::dds::Participant::create(domain, profile, "lpss-cluster", {}, identity("observer"));
+    auto participant =
+        lpss::dds::Participant::create(domain, profile, "lpss-cluster", {}, identity("observer"));
     if (!participant) {
         std::fprintf(stderr, "lpss-cluster: cannot start DDS: %s\n", participant.error().message.c_str());
         return 2;

@@ -75,32 +75,9 @@ double longest_wait(const std::map<std::uint64_t, std::chrono::steady_clock::tim
     return pause;
 }
 
-/// Checks every frame a client saw against lpss-sim's run of the same scene: empty if each frame holds
-/// exactly lpss-sim's bodies, else what the first that does not holds; `worst` is set to the largest
-/// distance of a body from where lpss-sim has it.
 std::string against_sim(const std::map<std::uint64_t, WorldFrame>& frames, const SimFrames& sim,
                         double& worst) {
-    const SectorGrid grid(kL);
-    worst = 0.0;
-    for (const auto& [f, frame] : frames) {
-        const auto& expected = sim.at(f);
-        bool same = frame.bodies.size() == expected.size();
-        std::set<BodyId> seen;
-        for (const BodyView& b : frame.bodies)
-            same = same && expected.count(b.id) && seen.insert(b.id).second;
-        if (!same) {
-            std::string held;
-            for (const BodyView& b : frame.bodies)
-                held += " " + std::to_string(b.id) + "@" + std::to_string(b.position.sector.i) + "," +
-                        std::to_string(b.position.sector.j) + "," + std::to_string(b.position.sector.k);
-            return "frame " + std::to_string(f) + " holds " + std::to_string(frame.bodies.size()) +
-                   " bodies, lpss-sim " + std::to_string(expected.size()) + ":" + held;
-        }
-        for (const BodyView& b : frame.bodies)
-            worst = std::max(
-                worst, (grid.to_global(b.position) - grid.to_global(expected.at(b.id).position)).norm());
-    }
-    return {};
+    return testing::against_sim(frames, sim, worst, kL);
 }
 
 void compare_with_sim(int workers, int domain) {
