@@ -8,10 +8,12 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
 out="$root/docs/results"
 subs=("$@")
-if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability accuracy cluster cluster-scale late-join dis); fi
+if [[ "${1:-}" == "--assemble" ]]; then subs=(); elif ((${#subs[@]} == 0)); then subs=(precision pareto instances overhead stacks scaling stability accuracy cluster cluster-security cluster-scale late-join dis); fi
 for sub in "${subs[@]}"; do
     echo "lpss: lpss-bench $sub"
-    (cd "$root" && build/lpss-bench --out docs/results "$sub" >/dev/null)
+    # cluster-security is the cluster sub-command run with --security (its output goes to cluster-security/).
+    if [[ "$sub" == cluster-security ]]; then args=(cluster --security); else args=("$sub"); fi
+    (cd "$root" && build/lpss-bench --out docs/results "${args[@]}" >/dev/null)
 done
 # {{NAME}} on a line of its own stands for docs/results/NAME/NAME.md, its pictures re-pointed.
 template="$root/docs/results.template.md"

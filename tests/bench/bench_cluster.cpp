@@ -48,10 +48,13 @@ struct ClusterRun {
     std::uint64_t frames = 0;
 };
 
+/// `identities`: the folder deploy/security/identities.sh made, for a secured run (this reader then takes
+/// its observer identity); empty for a plain one.
 ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::uint64_t frames, int domain,
-                       const std::filesystem::path& logs) {
+                       const std::filesystem::path& logs, const std::string& identities = "") {
     ClusterRun out;
-    auto participant = dds::Participant::create(domain, "", "lpss-bench");
+    auto participant = dds::Participant::create(domain, "", "lpss-bench", {},
+                                                identities.empty() ? "" : identities + "/observer");
     if (!participant) throw std::runtime_error(participant.error().message);
     dds::Participant& p = **participant;
     dds::Inbox inbox;
@@ -61,11 +64,18 @@ ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::u
     auto marks_in = std::make_unique<dds::Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(dds::kWorkerFrames), dds::reader_qos(dds::kFrameDelivery),
         &inbox);
-    auto cluster = runtime::ChildProcess::start(
-        LPSS_CLUSTER_PROGRAM,
-        {scene_file, "--workers", "2", "--frames", std::to_string(frames), "--domain", std::to_string(domain),
-         "--quiet", "--log-dir", (logs / "cluster-logs").string()},
-        (logs / "cluster.out").string());
+    std::vector<std::string> args = {scene_file,
+                                     "--workers",
+                                     "2",
+                                     "--frames",
+                                     std::to_string(frames),
+                                     "--domain",
+                                     std::to_string(domain),
+                                     "--quiet",
+                                     "--log-dir",
+                                     (logs / "cluster-logs").string()};
+    if (!identities.empty()) args.insert(args.end(), {"--security", identities});
+    auto cluster = runtime::ChildProcess::start(LPSS_CLUSTER_PROGRAM, args, (logs / "cluster.out").string());
     if (!cluster) throw std::runtime_error("cannot start lpss-cluster");
 
     // Per (worker, frame): when its marker was written, and the sectors (with stamps) it covers.
@@ -139,8 +149,81 @@ ClusterRun run_cluster(const std::string& scene_file, std::size_t bodies, std::u
 }  // namespace
 #endif
 
+#if LPSS_BENCH_DRIVER
+namespace {
+
+/// The same runs with and without DDS Security, one after the other, so that their ratio comes from one
+/// sitting of the machine.
+void run_cluster_security(const Context& context) {
+    Table table({"bodies", "moving", "security", "frames", "frames_per_second", "ms_per_frame",
+                 "latency_p50_ms", "latency_p99_ms", "bytes_per_body_frame", "ratio_to_plain"});
+    std::filesystem::create_directories(context.out);
+    const std::filesystem::path work =
+        std::filesystem::temp_directory_path() / fmt::format("lpss-bench-cluster-security-{}", ::getpid());
+    std::filesystem::create_directories(work);
+    const std::string identities = (work / "identities").string();
+    const std::string make = std::string(LPSS_SOURCE_DIR) + "/deploy/security/identities.sh init " +
+                             identities + " > " + (work / "identities.log").string() + " 2>&1";
+    if (std::system(make.c_str()) != 0)
+        throw std::runtime_error("identities.sh failed: see " + work.string());
+    progress("cluster --security: identities and logs in " + work.string());
+    const std::vector<int> counts = context.quick ? std::vector<int>{1000} : std::vector<int>{1000, 10000};
+    int domain = 156;
+    for (int n : counts) {
+        for (int every : {1, 10}) {
+            const Scene scene = drifting(n, every);
+            const std::filesystem::path file = work / fmt::format("drifting_{}_{}.textproto", n, every);
+            std::ofstream(file) << format_scene(scene);
+            const std::uint64_t frames = n <= 1000 ? 600 : 200;
+            double plain_ms = 0.0;
+            for (bool secured : {false, true}) {
+                progress(fmt::format("cluster --security: {} bodies, 1 in {} moving, {}", n, every,
+                                     secured ? "secured" : "plain"));
+                const std::filesystem::path logs =
+                    work / fmt::format("{}-{}-{}", n, every, secured ? "secured" : "plain");
+                std::filesystem::create_directories(logs);
+                const ClusterRun run = run_cluster(file.string(), scene.bodies.size(), frames, domain, logs,
+                                                   secured ? identities : "");
+                const double ms = 1e3 / run.frames_per_second;
+                if (!secured) plain_ms = ms;
+                table.add({std::to_string(n), every == 1 ? "all" : "1/" + std::to_string(every),
+                           secured ? "secured" : "plain", std::to_string(run.frames),
+                           num(run.frames_per_second, 4), num(ms, 4), num(run.latency_p50_ms, 3),
+                           num(run.latency_p99_ms, 3), num(run.bytes_per_body_frame, 4),
+                           num(ms / plain_ms, 3)});
+            }
+            ++domain;
+        }
+    }
+    if (!context.keep) std::filesystem::remove_all(work);
+    std::string md =
+        "The cluster benchmark's scenes (2 workers, unpaced, drifting bodies in sectors of 8; 1,000 and "
+        "10,000 bodies), each run plain and then with DDS Security: identities from "
+        "deploy/security/identities.sh, the governance it signs (discovery and liveliness protected, every "
+        "lpss topic's data and metadata encrypted with AES-GCM), lpss-cluster --security, and this benchmark "
+        "reading as an observer. Columns as in the cluster section; ratio_to_plain: ms_per_frame over the "
+        "plain run's just before it. bytes_per_body_frame counts the serialized samples before "
+        "encryption.\n\n" +
+        table.markdown();
+    std::string plot = R"(set title 'Frame time with and without DDS Security (2 workers)'
+set logscale xy
+set xlabel 'bodies'
+set ylabel 'milliseconds per frame'
+set key top left
+plot '$CSV' every 4::1 using 1:6 with linespoints pt 7 title 'plain, all moving', \
+     '$CSV' every 4::2 using 1:6 with linespoints pt 5 title 'secured, all moving', \
+     '$CSV' every 4::3 using 1:6 with linespoints pt 6 title 'plain, 1 in 10 moving', \
+     '$CSV' every 4::4 using 1:6 with linespoints pt 4 title 'secured, 1 in 10 moving'
+)";
+    publish(context, "cluster-security", table, "cluster --security: the cost of DDS Security", md, plot);
+}
+
+}  // namespace
+#endif
+
 void run_cluster(const Context& context) {
 #if LPSS_BENCH_DRIVER
+    if (context.security) return run_cluster_security(context);
     Table table({"bodies", "moving", "workers", "frames", "frames_per_second", "ms_per_frame",
                  "latency_p50_ms", "latency_p99_ms", "bytes_per_body_frame", "handoffs_per_second",
                  "in_process_ms_per_frame", "ratio_to_in_process"});

@@ -59,6 +59,7 @@ struct Context {
     bool quick = false;              ///< smaller sizes, for a smoke run
     bool as_twin = false;            ///< running inside the twin: print the table as CSV, nothing else
     bool keep = false;               ///< keep the scenes and logs a sub-command writes to a temporary folder
+    bool security = false;           ///< cluster: with and without DDS Security, side by side
     std::vector<std::size_t> sizes;  ///< world sizes instead of the sub-command's own (when not empty)
 };
 

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     bool quick = false;
     bool as_twin = false;
     bool keep = false;
+    bool security = false;
     std::vector<std::size_t> sizes;
     app.add_option("--out", out, "output folder (a sub-folder per sub-command)");
     app.add_option("--twin", twin, "the float64 twin (default: lpss-bench-f64 beside this program)");
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
     app.add_flag("--keep", keep,
                  "keep the scenes and logs of the runs (cluster-scale), to rerun one by hand");
     app.add_flag("--as-twin", as_twin, "internal: run the double configurations and print CSV");
+    app.add_flag("--security", security,
+                 "cluster: each run with and without DDS Security, side by side (into cluster-security/)");
 
     struct Sub {
         const char* name;
@@ -61,6 +64,7 @@ int main(int argc, char** argv) {
     context.quick = quick;
     context.as_twin = as_twin;
     context.keep = keep;
+    context.security = security;
     context.sizes = sizes;
     context.twin =
         twin.empty() ? (std::filesystem::path(argv[0]).parent_path() / "lpss-bench-f64").string() : twin;
@@ -70,7 +74,8 @@ int main(int argc, char** argv) {
     try {
         for (const auto& [command, sub] : commands) {
             if (!command->parsed()) continue;
-            context.out = std::filesystem::path(out) / sub->name;
+            context.out = std::filesystem::path(out) /
+                          (security && std::string(sub->name) == "cluster" ? "cluster-security" : sub->name);
             sub->run(context);
         }
     } catch (const std::exception& e) {
