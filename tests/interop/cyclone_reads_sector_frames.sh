@@ -24,22 +24,25 @@ cat >"$work/cyclone.xml" <<XML
       <ParticipantIndex>auto</ParticipantIndex>
       <MaxAutoParticipantIndex>40</MaxAutoParticipantIndex>
       <Peers><Peer address="127.0.0.1"/></Peers>
+      <SPDPInterval>0.2s</SPDPInterval>
     </Discovery>
     <Tracing><Category>warning</Category><OutputFile>$work/cyclone-warnings.log</OutputFile></Tracing>
   </Domain>
 </CycloneDDS>
 XML
-CYCLONEDDS_URI="file://$work/cyclone.xml" "$reader" "$domain" 15 >"$work/reader.out" 2>&1 &
+CYCLONEDDS_URI="file://$work/cyclone.xml" "$reader" "$domain" 90 300 2 >"$work/reader.out" 2>&1 &
 pid=$!
 sleep 1
-"$cluster" "$scene" --workers 2 --frames 300 --domain "$domain" --quiet --log-dir "$work/logs" >"$work/cluster.out" 2>&1 ||
+# Paced (5 s): Fast DDS and Cyclone find each other by unicast on 127.0.0.1, which takes a few of their
+# announcements; an unpaced run ends before the last of them.
+"$cluster" "$scene" --workers 2 --frames 300 --realtime --domain "$domain" --quiet --log-dir "$work/logs" >"$work/cluster.out" 2>&1 ||
     { cat "$work/cluster.out"; echo "lpss-cluster failed"; exit 1; }
 wait "$pid" || { cat "$work/reader.out"; echo "the Cyclone reader failed"; exit 1; }
 cat "$work/reader.out"
 out=$(cat "$work/reader.out")
 fail=0
 case "$out" in *"newest frame 300,"*) ;; *) echo "the Cyclone reader did not see frame 300"; fail=1 ;; esac
-case "$out" in *"writers 1 2"*) ;; *) echo "the Cyclone reader did not hear both workers"; fail=1 ;; esac
+echo "$out" | grep -Eq 'writers( 0)? 1 2' || { echo "the Cyclone reader did not hear both workers"; fail=1; }
 case "$out" in *"without 0,"*) echo "no unregistration reached the Cyclone reader (the check would not see an undecodable one)"; fail=1 ;; esac
 if [ -s "$work/cyclone-warnings.log" ]; then
     echo "Cyclone DDS warned:"; head -20 "$work/cyclone-warnings.log"; fail=1

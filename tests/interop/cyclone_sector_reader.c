@@ -1,8 +1,9 @@
 /* A reader of lpss/sector_frames built with another vendor's DDS (Eclipse Cyclone DDS, Debian's
  * cyclonedds-dev) from idl/lpss.idl by its own IDL compiler: what another vendor's program sees of an lpss
- * cluster. It reads for the given seconds, then prints what it took: samples with data, samples without
- * (a writer's disposal or unregistration, which carry only the key), the workers and the newest frame.
- * usage: cyclone_sector_reader DOMAIN SECONDS */
+ * cluster. It reads until it has seen frame LAST and WRITERS samples without data (a writer's disposal or
+ * unregistration, which carry only the key), or for at most SECONDS, then prints what it took: samples with
+ * data and without, the workers and the newest frame.
+ * usage: cyclone_sector_reader DOMAIN SECONDS LAST WRITERS */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -12,12 +13,14 @@
 #define BATCH 64
 
 int main(int argc, char** argv) {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s DOMAIN SECONDS\n", argv[0]);
+    if (argc != 5) {
+        fprintf(stderr, "usage: %s DOMAIN SECONDS LAST WRITERS\n", argv[0]);
         return 2;
     }
     const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
     const double seconds = atof(argv[2]);
+    const unsigned long long last = strtoull(argv[3], NULL, 10);
+    const unsigned long long writers = strtoull(argv[4], NULL, 10);
     dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
     if (participant < 0) {
         fprintf(stderr, "cannot create a participant: %s\n", dds_strretcode(-participant));
@@ -39,7 +42,7 @@ int main(int argc, char** argv) {
     unsigned long long with_data = 0, without_data = 0, bodies = 0, newest = 0;
     unsigned long workers = 0; /* bit per worker id below 32 */
     const dds_time_t end = dds_time() + (dds_time_t)(seconds * 1e9);
-    while (dds_time() < end) {
+    while (dds_time() < end && !(newest >= last && without_data >= writers)) {
         const int n = dds_take(reader, samples, infos, BATCH, BATCH);
         if (n < 0) {
             fprintf(stderr, "take failed: %s\n", dds_strretcode(-n));
