@@ -205,15 +205,24 @@ void run_cluster_security(const Context& context) {
         "plain run's just before it. bytes_per_body_frame counts the serialized samples before "
         "encryption.\n\n" +
         table.markdown();
-    std::string plot = R"(set title 'Frame time with and without DDS Security (2 workers)'
+    std::string plot = R"(set multiplot layout 1,2
 set logscale xy
+set xrange [700:14000]
 set xlabel 'bodies'
-set ylabel 'milliseconds per frame'
 set key top left
+set title 'Frame time with and without DDS Security (2 workers)'
+set ylabel 'milliseconds per frame'
 plot '$CSV' every 4::1 using 1:6 with linespoints pt 7 title 'plain, all moving', \
      '$CSV' every 4::2 using 1:6 with linespoints pt 5 title 'secured, all moving', \
      '$CSV' every 4::3 using 1:6 with linespoints pt 6 title 'plain, 1 in 10 moving', \
      '$CSV' every 4::4 using 1:6 with linespoints pt 4 title 'secured, 1 in 10 moving'
+set title 'Worker to reader latency, 99th percentile'
+set ylabel 'milliseconds'
+plot '$CSV' every 4::1 using 1:8 with linespoints pt 7 title 'plain, all moving', \
+     '$CSV' every 4::2 using 1:8 with linespoints pt 5 title 'secured, all moving', \
+     '$CSV' every 4::3 using 1:8 with linespoints pt 6 title 'plain, 1 in 10 moving', \
+     '$CSV' every 4::4 using 1:8 with linespoints pt 4 title 'secured, 1 in 10 moving'
+unset multiplot
 )";
     publish(context, "cluster-security", table, "cluster --security: the cost of DDS Security", md, plot);
 }
