@@ -16,7 +16,7 @@ inline constexpr const char* kRecipientFilterClass = "LPSS_SECTOR_RECIPIENT";
 
 /// Makes region filters from six parameters (i_lo i_hi j_lo j_hi k_lo k_hi) and recipient filters from
 /// one (the worker id).
-class SectorFilterFactory : public eprosima::fastdds::dds::IContentFilterFactory {
+class SectorFilterFactory final : public eprosima::fastdds::dds::IContentFilterFactory {
 public:
     ReturnCode_t create_content_filter(const char* filter_class_name, const char* type_name,
                                        const eprosima::fastdds::dds::TopicDataType* data_type,

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "command_check.hpp"
 #include "commands.hpp"
 #include "coordinator_state.hpp"
 #include "heap.hpp"
@@ -490,42 +491,14 @@ void Coordinator::State::accept(const wire::Command& c) {
                              std::to_string(static_cast<long long>(command_rate.per_second())) +
                              " commands a second: refused (rate limit)");
     }
-    auto known = statics.find(c.body());
-    auto finite = [](const wire::Vec3d& v) {
-        return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
-    };
-    BodyDesc body;
-    switch (c.kind()) {
-        case wire::kCommandSpawn: {
-            body = dds::from_wire(c.spawn());
-            if (c.spawn_global()) body.position = dds::from_wire(c.spawn().offset());
-            if (Status st = validate_body(body, settings); !st) return refuse(c, st.error().message);
-            if (statics.count(body.id))
-                return refuse(c, describe_body(body) + ": id is used by another body");
-            break;
-        }
-        case wire::kCommandRemove:
-            if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
-            break;
-        case wire::kCommandImpulse:
-        case wire::kCommandSetVelocity:
-            if (known == statics.end()) return refuse(c, "unknown body id " + std::to_string(c.body()));
-            if (known->second) {
-                return refuse(c, "body id " + std::to_string(c.body()) + ": is static and cannot be pushed");
-            }
-            if (!finite(c.vector1()) || !finite(c.vector2())) {
-                return refuse(c, "body id " + std::to_string(c.body()) + ": command vectors must be finite");
-            }
-            break;
-        case wire::kCommandReady: {
-            if (ready_clients.insert(c.client()).second)
-                spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());
-            results_out->write(worker::answer(c, 0, frame + 1, {}));  // said again until this comes
-            return;
-        }
-        default:
-            return refuse(c, "unknown command kind " + std::to_string(c.kind()));
+    if (c.kind() == wire::kCommandReady) {
+        if (ready_clients.insert(c.client()).second)
+            spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());
+        results_out->write(worker::answer(c, 0, frame + 1, {}));  // said again until this comes
+        return;
     }
+    BodyDesc body;
+    if (std::string why = refusal(c, settings, statics, body); !why.empty()) return refuse(c, why);
     commands.push_back(c);
     command_order.push_back(next_order++);
     // Spawns and removals change the body set at once, so that later commands see them.
@@ -548,7 +521,7 @@ void Coordinator::State::accept(const wire::Command& c) {
             planes[body.id] = body;
         }
     } else if (c.kind() == wire::kCommandRemove) {
-        statics.erase(known);
+        statics.erase(c.body());
         if (auto plane = planes.find(c.body()); plane != planes.end()) {
             wire::BodyDescription d;
             d.id(c.body());
