@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -267,6 +268,7 @@ TEST(Security, OnlyIdentitiesOfTheClustersCasTakePartEachInItsRole) {
 
     std::map<std::uint64_t, WorldFrame> frames;
     std::uint64_t spawn = 0, refused_spawn = 0, written = 0;
+    std::vector<std::pair<std::uint64_t, std::string>> hostile;
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < kFrames)) {
         for (WorldFrame& f : observer->poll(std::chrono::milliseconds(10)))
@@ -282,6 +284,14 @@ TEST(Security, OnlyIdentitiesOfTheClustersCasTakePartEachInItsRole) {
             BodyDesc b = scenes::sphere_body(101, 0.5, 1.0, Eigen::Vector3d(12 * kL, 0, 0));
             refused_spawn = observer->spawn(a);
             spawn = operator_client->spawn(b);
+            // A permitted but buggy operator: its hostile commands pass access control and are refused by
+            // the coordinator, each with its reason, as without security (CommandsFromTwoClients...).
+            hostile = {
+                {operator_client->apply_impulse(3, {std::nan(""), 0, 0}), "finite"},
+                {operator_client->remove(~BodyId{0}), "unknown body id 18446744073709551615"},
+                {operator_client->spawn(scenes::sphere_body(102, 0.5, 1.0, Eigen::Vector3d(1e300, 0, 0))),
+                 "beyond"},
+            };
         }
         wire::SectorFrame sample;
         sample.sector(dds::to_wire(SectorKey{0, 0, 0}));
@@ -297,6 +307,13 @@ TEST(Security, OnlyIdentitiesOfTheClustersCasTakePartEachInItsRole) {
         sample.kinds().back().id(9999);
         garbage.write(sample);
         ++written;
+    }
+    EXPECT_EQ(hostile.size(), 3u);
+    for (const auto& [request, reason] : hostile) {
+        const auto outcome = operator_client->wait_outcome(request, std::chrono::seconds(10));
+        ASSERT_TRUE(outcome.has_value()) << "no answer to a hostile command (" << reason << ")";
+        EXPECT_FALSE(outcome->applied);
+        EXPECT_NE(outcome->reason.find(reason), std::string::npos) << outcome->reason;
     }
     const auto applied = operator_client->wait_outcome(spawn, std::chrono::seconds(10));
     const auto refused = observer->outcome(refused_spawn);
