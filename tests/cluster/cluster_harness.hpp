@@ -128,10 +128,12 @@ inline ClusterRun start_cluster(const std::string& scene, int domain, int worker
     return run;
 }
 
-/// A client on `domain`, waiting for a cluster.
+/// A client on `domain`, waiting for a cluster; `security`: its DDS Security identity folder, if any.
 inline std::unique_ptr<Client> connect(int domain, const std::string& name, std::optional<Region> region = {},
-                                       FrameContent content = FrameContent::every_body) {
+                                       FrameContent content = FrameContent::every_body,
+                                       const std::string& security = "") {
     ClientOptions o;
+    o.security = security;
     o.domain = domain;
     o.name = name;
     o.region = region;

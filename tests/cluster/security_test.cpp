@@ -80,16 +80,7 @@ private:
 };
 
 std::unique_ptr<Client> secured_client(int domain, const std::string& name, const std::string& identity) {
-    ClientOptions o;
-    o.domain = domain;
-    o.name = name;
-    o.security = identity;
-    auto client = Client::connect(o);
-    if (!client) {
-        ADD_FAILURE() << client.error().message;
-        return nullptr;
-    }
-    return std::move(client).value();
+    return testing::connect(domain, name, {}, FrameContent::every_body, identity);
 }
 
 /// Every packet on loopback while it lives (a raw socket in the test's own network namespace).
