@@ -10,6 +10,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
+#include "lpss_dds/sample_owners.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
@@ -44,7 +45,7 @@ struct Client::State {
     std::optional<WorldSettings> settings;
     /// Assignments by the frame they take effect from: which workers end each frame, and own which sectors.
     std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
-    std::map<std::uint64_t, SectorAssignment> owners_from;
+    dds::SampleOwners owners;  ///< which worker owns which sectors, and so writes their samples
     std::map<BodyId, BodyDesc> planes;
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
@@ -145,6 +146,8 @@ struct Client::State {
     bool shown_whole = false;       ///< a frame with every body was returned (FrameContent::changes)
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
+    /// A sector sample read: checked, then kept for its frame (or refused, or held by `owners`).
+    void take_sample(const wire::SectorFrame& f);
     /// Sectors a frame has waited for since kLostAfter without a frame shown: their samples are asked for
     /// whole (their owners answer in their next frame, an emptied sector with an empty sample).
     void ask_for_lost(const std::set<SectorKey>& missing);
@@ -154,10 +157,9 @@ struct Client::State {
 };
 
 void Client::State::describe_cluster(WorldFrame& out, std::uint64_t from, std::uint64_t shown) const {
-    if (auto owners = owners_from.upper_bound(shown); owners != owners_from.begin()) {
-        const SectorAssignment& assignment = std::prev(owners)->second;
+    if (const SectorAssignment* assignment = owners.in_force(shown)) {
         for (BodyView& b : out.bodies) {
-            if (planes.count(b.id) == 0) b.worker = assignment.owner_of(b.position.sector);
+            if (planes.count(b.id) == 0) b.worker = assignment->owner_of(b.position.sector);
         }
     }
     for (std::uint64_t g = from; g <= shown; ++g) {
@@ -241,7 +243,8 @@ void Client::State::take() {
         grid = SectorGrid(a.settings().sector_size());
         settings = dds::from_wire(a.settings());
         workers_from[a.from_frame()] = a.workers();
-        owners_from[a.from_frame()] = dds::from_wire(a);
+        for (const wire::SectorFrame& f : owners.learn(dds::from_wire(a)))
+            take_sample(f);
     });
     planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) {
@@ -311,20 +314,7 @@ void Client::State::take() {
         marks[{m.worker(), m.frame()}] = std::move(mark);
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        // The coordinator's samples hold the world's first state, of sectors not written since (and the
-        // state of a dead worker's sectors, for their next owner).
-        if (!info.valid_data || chain.stale(f)) return;
-        // A sector no inventory and no mark names, at a frame already applied: it was empty then, and this
-        // is an older sample of it from a history that still holds one (see forget_unlisted).
-        if (synced && f.frame() <= applied && !stamps.count(dds::from_wire(f.sector()))) return;
-        if (std::string why = dds::implausible(f, newest_mark, dds::kClientFramesAhead); !why.empty())
-            return refused_samples.refuse(why);
-        if (!chain.accept(f)) {
-            wanted_whole.want(dds::from_wire(f.sector()));
-            return;
-        }
-        wanted_whole.got(dds::from_wire(f.sector()));
-        pending[f.frame()].push_back(f);
+        if (info.valid_data) take_sample(f);
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || r.client() != options.name) return;
@@ -333,6 +323,24 @@ void Client::State::take() {
     ask_for_inventory();
     ask_for_whole_sectors();
     say_ready();
+}
+
+void Client::State::take_sample(const wire::SectorFrame& f) {
+    // The coordinator's samples hold the world's first state, of sectors not written since (and the
+    // state of a dead worker's sectors, for their next owner).
+    if (chain.stale(f)) return;
+    // A sector no inventory and no mark names, at a frame already applied: it was empty then, and this
+    // is an older sample of it from a history that still holds one (see forget_unlisted).
+    if (synced && f.frame() <= applied && !stamps.count(dds::from_wire(f.sector()))) return;
+    if (std::string why = dds::implausible(f, newest_mark, dds::kClientFramesAhead); !why.empty())
+        return refused_samples.refuse(why);
+    if (!owners.admit(f, refused_samples)) return;
+    if (!chain.accept(f)) {
+        wanted_whole.want(dds::from_wire(f.sector()));
+        return;
+    }
+    wanted_whole.got(dds::from_wire(f.sector()));
+    pending[f.frame()].push_back(f);
 }
 
 void Client::State::say_ready() {
@@ -651,6 +659,7 @@ void Client::State::apply_until(std::uint64_t frame) {
     mirror.apply(batch, options.content == FrameContent::changes ? &left : nullptr);
     pending.erase(pending.begin(), end);
     chain.forget_applied(frame);
+    owners.applied(frame, refused_samples);
 }
 
 BodyView Client::State::view_of(const SectorKey& key, const wire::BodyState& state) const {

@@ -223,8 +223,7 @@ void Coordinator::State::pump() {
                     statics.emplace(kind.id(), kind.mass() == 0.0);
             }
         }
-        if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
-        if (chain.accept(f)) samples[f.frame()].push_back(f);
+        take_sample(f);
     });
     if (!standing_by) watch_coordinators();
     // A worker whose lease expired and that came back before it was taken as gone (a late beat on a loaded
@@ -303,6 +302,18 @@ void Coordinator::State::watch_coordinators() {
     });
 }
 
+void Coordinator::State::take_sample(const wire::SectorFrame& f) {
+    if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
+    if (!owners.admit(f, refused_samples)) return;
+    if (chain.accept(f)) samples[f.frame()].push_back(f);
+}
+
+void Coordinator::State::publish_assignment() {
+    assignment_out->write(assignment_on_wire());
+    for (const wire::SectorFrame& f : owners.learn(next))
+        take_sample(f);
+}
+
 void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also) {
     std::vector<const wire::SectorFrame*> batch;
     const auto end = samples.upper_bound(up_to);
@@ -315,6 +326,7 @@ void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wir
     mirror.apply(batch);
     samples.erase(samples.begin(), end);
     chain.forget_applied(up_to);
+    owners.applied(up_to, refused_samples);
 }
 
 Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {

@@ -20,6 +20,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
+#include "lpss_dds/sample_owners.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 
@@ -97,6 +98,7 @@ struct Coordinator::State {
     dds::SectorMirror mirror;
     dds::SectorChain chain;
     dds::RefusedSamples refused_samples{"coordinator"};
+    dds::SampleOwners owners;  ///< whose samples are whose to write, by the assignments announced
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
 
     SectorAssignment current;
@@ -172,6 +174,8 @@ struct Coordinator::State {
     void status(const std::string& phase, double progress, std::uint64_t bodies);
     Status load_and_seed(const std::atomic<bool>& stop);
     void pump();
+    /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
+    void take_sample(const wire::SectorFrame& f);
     /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
     void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
     /// A complete sample of a sector as the copy of the world holds it, as worker 0.
@@ -220,7 +224,8 @@ struct Coordinator::State {
         a.term(term);
         return a;
     }
-    void publish_assignment() { assignment_out->write(assignment_on_wire()); }
+    /// Announces `next`; the samples written under it that came before are taken in now.
+    void publish_assignment();
     /// Frames go on without a standby that is gone (its lease lapsed): the latest start is written again
     /// without it, for the workers that wait for its word.
     void drop_standby();

@@ -23,6 +23,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
+#include "lpss_dds/sample_owners.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_publisher.hpp"
 #include "lpss_dds/topics.hpp"
@@ -99,10 +100,15 @@ struct Worker::State {
     dds::WholeSectorAsks wanted_whole;  ///< other workers' sectors whose partial samples were refused
     std::uint64_t whole_requests = 0;
     void ask_for_whole_sectors();
+    /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
+    void take_sample(const wire::SectorFrame& f);
+    /// Tells `owners` of an assignment announced; the samples it held are offered again.
+    void learn(const SectorAssignment& assignment);
     // Received and not yet applied.
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< by frame
     dds::SectorChain chain;                                           ///< which samples are usable
-    std::map<std::uint64_t, std::uint64_t> received_bytes;            ///< serialized sample bytes, by frame
+    dds::SampleOwners owners;  ///< whose samples are whose to write, by the assignments announced
+    std::map<std::uint64_t, std::uint64_t> received_bytes;  ///< serialized sample bytes, by frame
     std::map<BodyId, std::pair<std::uint64_t, BodyDesc>>
         early_planes;         ///< before the world exists: rank, plane
     std::set<BodyId> planes;  ///< in no sector's samples: readers count them in marks
@@ -323,25 +329,34 @@ void Worker::State::pump() {
         if (!world && m.frame() > 0) heard.insert(m.worker());
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (!info.valid_data || f.worker() == options.id || f.frame() < sample_floor) return;
-        const wire::FrameGo* latest = gate.latest();
-        if (std::string why = dds::implausible(f, std::max(frame, latest ? latest->frame() : 0));
-            !why.empty())
-            return refused_samples.refuse(why);
-        received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
-        if (chain.stale(f)) return;
-        // A refused sample (its base missing: lost to newer ones on a loaded machine) is not applied; the
-        // sector is asked for whole, as clients do, or it would stay broken until its owner sent it whole
-        // for some other reason (seen: a worker degraded 2 s a frame for minutes).
-        if (!chain.accept(f)) {
-            spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, f.frame());
-            wanted_whole.want(dds::from_wire(f.sector()));
-            return;
-        }
-        wanted_whole.got(dds::from_wire(f.sector()));
-        samples[f.frame()].push_back(f);
+        if (info.valid_data) take_sample(f);
     });
     ask_for_whole_sectors();
+}
+
+void Worker::State::take_sample(const wire::SectorFrame& f) {
+    if (f.worker() == options.id || f.frame() < sample_floor) return;
+    const wire::FrameGo* latest = gate.latest();
+    if (std::string why = dds::implausible(f, std::max(frame, latest ? latest->frame() : 0)); !why.empty())
+        return refused_samples.refuse(why);
+    if (!owners.admit(f, refused_samples)) return;
+    received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);
+    if (chain.stale(f)) return;
+    // A refused sample (its base missing: lost to newer ones on a loaded machine) is not applied; the
+    // sector is asked for whole, as clients do, or it would stay broken until its owner sent it whole
+    // for some other reason (seen: a worker degraded 2 s a frame for minutes).
+    if (!chain.accept(f)) {
+        spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, f.frame());
+        wanted_whole.want(dds::from_wire(f.sector()));
+        return;
+    }
+    wanted_whole.got(dds::from_wire(f.sector()));
+    samples[f.frame()].push_back(f);
+}
+
+void Worker::State::learn(const SectorAssignment& assignment) {
+    for (const wire::SectorFrame& f : owners.learn(assignment))
+        take_sample(f);
 }
 
 void Worker::State::ask_for_whole_sectors() {
@@ -365,11 +380,13 @@ void Worker::State::apply_samples(std::uint64_t up_to,
     halo.apply(*world, batch, also);
     samples.erase(samples.begin(), end);
     chain.forget_applied(up_to);
+    owners.applied(up_to, refused_samples);
 }
 
 bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>& stop) {
     const SectorAssignment current = dds::from_wire(go.next());
     halo.follow(current, current, go.next().largest_radius());
+    learn(current);
     if (!create_world(go.next())) return false;
     // The world's first state: the coordinator's samples of the sectors this worker holds, and the planes.
     // Waits as long as the coordinator is there: a large world takes a while to send.
@@ -514,6 +531,7 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
         sample_floor = latest.frame();
         samples.clear();
         chain = dds::SectorChain();
+        owners = dds::SampleOwners();
         wanted_whole = dds::WholeSectorAsks();
         wire::WorkerFrame ask = mark_of(0);
         ask.epoch(announced.epoch);
@@ -532,6 +550,9 @@ Worker::State::Joining Worker::State::join(const wire::FrameGo& latest) {
     if (early_planes.size() < latest.planes()) return Joining::waiting;
     if (!create_world(latest.next())) return Joining::failed;
     halo.follow(joined_from, announced, latest.next().largest_radius());
+    // Not joined_from: assignments may have come between (its sectors' whole samples of the frame before
+    // are under the epoch then in force, unknown here, and so let through).
+    learn(announced);
     halo.apply(*world, {}, take_early_planes());
     // It is as if it had ended the frame before its sectors become its own: that frame's samples (its
     // sectors whole, and its halo) are the ones it starts from.
@@ -555,6 +576,7 @@ void Worker::State::announce(const wire::FrameGo& go) {
     if (announced.epoch != halo.next().epoch || radius != halo.largest_radius()) {
         if (radius != halo.largest_radius()) reach_changed = true;
         halo.follow(halo.current(), announced, radius);
+        learn(announced);
     }
 }
 

@@ -211,8 +211,11 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
 TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
     // A peer on the domain (no DDS Security) writes sector samples to every worker while the world runs: a
     // frame far in the future (it would freeze its sector: every later real sample stale), NaN states, a
-    // sector key beyond the grid, a body id no one has. The world runs as lpss-sim runs it, no foreign body
-    // ever shows, and every reader logs the refusals with their reason.
+    // sector key beyond the grid, and well-formed samples of a real sector at the current frame with a body
+    // no one has: under the epoch in force (but from a worker that does not own the sector), under an
+    // older epoch (as a worker left behind by a newer assignment writes), and under an epoch no coordinator
+    // announced (another term's). The world runs as lpss-sim runs it, no foreign body ever shows, and every
+    // reader logs the refusals with their reason.
     const int domain = 143;
     const testing::DomainCleanup cleanup(domain);
     const Scene scene = crossing_scene();
@@ -227,6 +230,10 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
                                            (*peer)->topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
                                            dds::writer_qos(dds::kSectorFrameDelivery));
     ASSERT_TRUE(garbage.ok());
+    dds::Reader<wire::Assignment> assignments(**peer,
+                                              (*peer)->topic<wire::AssignmentPubSubType>(dds::kSectorOwners),
+                                              dds::reader_qos(dds::kAssignmentDelivery), nullptr);
+    std::uint32_t epoch = 0;
     auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
     ASSERT_TRUE(cluster.process);
     auto sample = [](const SectorKey& key, std::uint64_t frame, BodyId id, float x) {
@@ -260,6 +267,18 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
         garbage.write(nan);
         garbage.write(sample({INT64_MAX, 0, 0}, now, 9997, 1.0f));
         written += 3;
+        assignments.take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) epoch = std::max(epoch, a.epoch());
+        });
+        if (epoch == 0) continue;
+        // Well-formed, in the sector the two spheres meet in: taken in, body 9996 would show in frames
+        // and collide with them.
+        for (std::uint32_t claimed : {epoch, epoch - 1, epoch + 1000}) {
+            wire::SectorFrame forged = sample({0, 0, 0}, now, 9996, 2.0f);
+            forged.epoch(claimed);
+            garbage.write(forged);
+            ++written;
+        }
     }
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
     ASSERT_FALSE(frames.empty());
@@ -276,6 +295,9 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
                                                                                         << text;
         EXPECT_NE(text.find("has a state that is not finite"), std::string::npos) << log;
         EXPECT_NE(text.find("sector index beyond 2^62"), std::string::npos) << log;
+        EXPECT_NE(text.find("from worker 7: the sector is worker"), std::string::npos) << log;
+        EXPECT_NE(text.find("is older than the one in force at its frame"), std::string::npos) << log;
+        EXPECT_NE(text.find("never came"), std::string::npos) << log;
     }
 }
 TEST(Cluster, TwoWorkersMatchLpssSim) { compare_with_sim(2, 121); }
