@@ -144,6 +144,8 @@ struct Client::State {
     std::vector<BodyId> left;
     std::set<BodyId> planes_shown;  ///< the planes of the last frame returned (FrameContent::changes)
     bool shown_whole = false;       ///< a frame with every body was returned (FrameContent::changes)
+    /// The outcomes kept, the newest by request number: a client that never asks for them does not grow.
+    static constexpr std::size_t kMostOutcomes = 4096;
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
     /// A sector sample read: checked, then kept for its frame (or refused, or held by `owners`).
@@ -318,7 +320,16 @@ void Client::State::take() {
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || r.client() != options.name) return;
-        outcomes[r.request()] = CommandOutcome{r.applied(), r.order(), r.frame(), r.reason()};
+        const CommandOutcome outcome{r.applied(), r.order(), r.frame(), r.reason()};
+        // An answer for a run of requests: only the newest kMostOutcomes can be asked for anyway.
+        const std::uint64_t most = kMostOutcomes;
+        std::uint64_t from =
+            r.first_request() != 0 && r.first_request() < r.request() ? r.first_request() : r.request();
+        if (r.request() - from >= most) from = r.request() - most + 1;
+        for (std::uint64_t q = from; q <= r.request(); ++q)
+            outcomes[q] = outcome;
+        while (outcomes.size() > most)
+            outcomes.erase(outcomes.begin());
     });
     ask_for_inventory();
     ask_for_whole_sectors();

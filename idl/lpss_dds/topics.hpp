@@ -68,8 +68,10 @@ inline constexpr Delivery kWorkerMarks{true, 8, false, 300};
 /// lease that the coordinator is gone, and the coordinator that its standby is. Workers read both without a
 /// lease.
 inline constexpr Delivery kCoordinatorWords{true, 8, false, 300};
-/// Commands and sector requests: volatile, deep enough for bursts.
-inline constexpr Delivery kCommandDelivery{false, 256};
+/// Commands and sector requests: volatile, deep enough for bursts. A client's commands are one instance
+/// (idl/lpss.idl): as many as the coordinator's default rate lets through at once (1,000) fit in flight;
+/// more are lost on the way and refused as lost.
+inline constexpr Delivery kCommandDelivery{false, 1024};
 /// Command results: durable, the last 256 per client (results are keyed by client), so that a client
 /// whose reader a worker matched only after answering still gets the answer (seen: a spawn's answer lost
 /// to discovery that had matched one side only).

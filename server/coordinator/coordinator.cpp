@@ -487,22 +487,59 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     return {};
 }
 
-void Coordinator::State::refuse(const wire::Command& c, const std::string& reason) {
-    results_out->write(worker::answer(c, 0, frame + 1, Error{reason}));
+void Coordinator::State::refuse(const wire::Command& c, const std::string& reason,
+                                std::uint64_t first_request) {
+    wire::CommandResult r = worker::answer(c, 0, frame + 1, Error{reason});
+    r.first_request(first_request);
+    results_out->write(r);
 }
 
 void Coordinator::State::accept_commands() {
     commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) accept(c);
     });
+    answer_over_rate();
+}
+
+void Coordinator::State::answer_over_rate() {
+    if (!over_rate) return;
+    const wire::Command& last = over_rate->last;
+    refuse(last,
+           "client '" + last.client() + "' sends more than " +
+               std::to_string(static_cast<long long>(command_rate.per_second())) +
+               " commands a second: refused (rate limit)",
+           over_rate->first_request);
+    over_rate.reset();
+}
+
+void Coordinator::State::refuse_lost(const wire::Command& c) {
+    auto [last, first] = last_request.try_emplace(c.client(), c.request());
+    if (first) return;
+    const std::uint64_t previous = std::exchange(last->second, c.request());
+    if (c.request() <= previous + 1) return;  // the next one, or a client started again under its name
+    wire::Command lost = c;
+    lost.request(c.request() - 1);
+    refuse(lost,
+           "client '" + c.client() + "': commands " + std::to_string(previous + 1) + " to " +
+               std::to_string(c.request() - 1) + " were lost on the way (more than " +
+               std::to_string(dds::kCommandDelivery.depth) + " of its commands in flight at once): refused",
+           previous + 1);
 }
 
 void Coordinator::State::accept(const wire::Command& c) {
+    refuse_lost(c);
     if (c.kind() != wire::kCommandReady && !command_rate.allow(c.client(), Clock::now())) {
-        return refuse(c, "client '" + c.client() + "' sends more than " +
-                             std::to_string(static_cast<long long>(command_rate.per_second())) +
-                             " commands a second: refused (rate limit)");
+        // Answered once for a run of them: a flood must not cost a write per command.
+        if (over_rate && over_rate->last.client() == c.client() &&
+            c.request() == over_rate->last.request() + 1) {
+            over_rate->last = c;
+            return;
+        }
+        answer_over_rate();
+        over_rate = OverRate{c, c.request()};
+        return;
     }
+    if (over_rate && over_rate->last.client() == c.client()) answer_over_rate();
     if (c.kind() == wire::kCommandReady) {
         if (ready_clients.insert(c.client()).second)
             spdlog::info("coordinator: client {} is ready ({} so far)", c.client(), ready_clients.size());

@@ -17,7 +17,7 @@ namespace lpss::coordinator {
 struct CoordinatorOptions {
     std::string scene_path;
     int domain = 0;
-    std::string profile;  ///< Fast DDS XML profile; empty: the built-in local one
+    std::string profile;   ///< Fast DDS XML profile; empty: the built-in local one
     std::string security;  ///< DDS Security identity folder (a coordinator's); empty: none
     std::uint32_t workers = 1;
     std::uint64_t frames = 0;  ///< stop after this many frames; 0: run until stopped

@@ -23,6 +23,7 @@
 #include "lpss_dds/sample_owners.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
+#include "standing_commands.hpp"
 
 namespace lpss::coordinator {
 
@@ -86,7 +87,7 @@ struct Coordinator::State {
     std::set<std::uint64_t> primary_wrote;
     /// Commands read while standing by, in the order read, until the coordinator applies (FrameGo) or
     /// refuses (its answer) them: those left when it takes over are its to accept or refuse.
-    std::vector<wire::Command> standing_commands;
+    StandingCommands standing_commands;
     std::uint64_t followed_order = 0;  ///< the highest command sequence number a followed start carried
 
     /// Every body's id, and whether it is static: what commands are checked against. Bodies come and go
@@ -206,7 +207,21 @@ struct Coordinator::State {
     void acknowledge(std::uint64_t frame);
     /// Reads the other coordinator's frame starts and a standby's acknowledgements (the coordinator's part).
     void watch_coordinators();
-    void refuse(const wire::Command& c, const std::string& reason);
+    /// Answers `c` refused; `first_request` (not 0): the answer stands for every request of its client from
+    /// there to c's.
+    void refuse(const wire::Command& c, const std::string& reason, std::uint64_t first_request = 0);
+    /// The run of commands refused for their client's rate, not answered yet: one answer for all.
+    struct OverRate {
+        wire::Command last;
+        std::uint64_t first_request = 0;
+    };
+    std::optional<OverRate> over_rate;
+    void answer_over_rate();
+    /// A client's commands travel in one DDS instance, its last kCommandDelivery.depth kept: with more in
+    /// flight at once, the oldest are lost on the way. Those skipped before `c` are refused, named, so
+    /// that no command goes without an answer.
+    void refuse_lost(const wire::Command& c);
+    std::unordered_map<std::string, std::uint64_t> last_request;  ///< by client: the newest request read
     bool wait_for_frame(std::uint64_t f, const std::atomic<bool>& stop);
     void collect_handoffs(std::uint64_t f);
     /// Once every live worker has ended frame f: the frames the workers taken as gone did not finish,

@@ -41,11 +41,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     std::map<std::uint64_t, wire::FrameGo> starts;  ///< read, not yet followed
     std::optional<wire::FrameGo> last;              ///< the latest followed (and acknowledged if it asked)
     auto forget = [&](const std::string& client, std::uint64_t request) {
-        standing_commands.erase(std::remove_if(standing_commands.begin(), standing_commands.end(),
-                                               [&](const wire::Command& c) {
-                                                   return c.client() == client && c.request() == request;
-                                               }),
-                                standing_commands.end());
+        standing_commands.forget(client, request);
     };
     for (;;) {
         if (stop.load()) return std::uint64_t{0};
@@ -62,7 +58,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             statics[d.id()] = true;
         });
         commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
-            if (info.valid_data) standing_commands.push_back(c);
+            if (info.valid_data) standing_commands.add(c);
         });
         // Answered (refused by the coordinator, or applied and answered by a worker): not this one's.
         results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
@@ -162,17 +158,17 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     // A gone worker's sectors it restored at this frame: the next start says so, for the workers to wait for.
     wrote_sectors = primary_wrote.count(frame) != 0;
     // Commands read and neither applied nor answered are this coordinator's now, in the order read.
-    const std::size_t standing = standing_commands.size();
-    for (const wire::Command& c : standing_commands)
+    const std::vector<wire::Command> standing = standing_commands.take_all();
+    for (const wire::Command& c : standing)
         accept(c);
-    standing_commands.clear();
+    answer_over_rate();
     publish_assignment();
     status("running", 0.0, statics.size());
     spdlog::warn(
         "coordinator {}: the coordinator's lease ran out after it started frame {}: taking over under term "
         "{} "
         "({} workers, {} bodies, {} commands it had not applied or answered)",
-        options.id, frame, term, live.size(), statics.size(), standing);
+        options.id, frame, term, live.size(), statics.size(), standing.size());
 }
 
 }  // namespace lpss::coordinator

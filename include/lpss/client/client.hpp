@@ -139,7 +139,8 @@ public:
     /// The region this client follows, if it follows one.
     const std::optional<Region>& region() const;
 
-    /// Commands: each returns a request number; outcome() tells what became of it.
+    /// Commands: each returns a request number; outcome() tells what became of it (the newest 4,096
+    /// outcomes are kept).
     std::uint64_t spawn(const BodyDesc& body);
     std::uint64_t remove(BodyId id);
     std::uint64_t apply_impulse(BodyId id, const Eigen::Vector3d& impulse,

@@ -1,0 +1,39 @@
+#include "standing_commands.hpp"
+
+namespace lpss::coordinator {
+
+void StandingCommands::add(const wire::Command& c) {
+    Key key{c.client(), c.request()};
+    if (answered_early_.erase(key) != 0) return;
+    if (order_of_.count(key) != 0) return;  // read twice: once is enough
+    order_of_.emplace(key, next_order_);
+    by_order_.emplace(next_order_++, c);
+}
+
+void StandingCommands::forget(const std::string& client, std::uint64_t request) {
+    Key key{client, request};
+    auto it = order_of_.find(key);
+    if (it != order_of_.end()) {
+        by_order_.erase(it->second);
+        order_of_.erase(it);
+        return;
+    }
+    if (!answered_early_.insert(key).second) return;
+    answered_early_order_.push_back(std::move(key));
+    if (answered_early_order_.size() > kMostEarlyAnswers) {
+        answered_early_.erase(answered_early_order_.front());
+        answered_early_order_.pop_front();
+    }
+}
+
+std::vector<wire::Command> StandingCommands::take_all() {
+    std::vector<wire::Command> left;
+    left.reserve(by_order_.size());
+    for (auto& [order, c] : by_order_)
+        left.push_back(std::move(c));
+    by_order_.clear();
+    order_of_.clear();
+    return left;
+}
+
+}  // namespace lpss::coordinator
