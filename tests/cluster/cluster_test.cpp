@@ -138,6 +138,33 @@ void compare_with_sim(int workers, int domain) {
 
 TEST(Cluster, OneWorkerMatchesLpssSimBitForBit) { compare_with_sim(1, 120); }
 
+/// What a flooding client read of the answers to its requests [first, last], by kind; each unexpected
+/// reason is a test failure.
+struct FloodAnswers {
+    std::size_t applied = 0, limited = 0, lost = 0, other_reason = 0;
+};
+FloodAnswers read_flood_answers(Client& flooder, const std::string& name, std::uint64_t first,
+                                std::uint64_t last, int rate) {
+    const std::string over_rate = "client '" + name + "' sends more than " + std::to_string(rate) +
+                                  " commands a second: refused (rate limit)";
+    FloodAnswers got;
+    for (std::uint64_t r = first; r <= last; ++r) {
+        auto o = flooder.outcome(r);
+        if (!o) continue;
+        if (o->applied) {
+            ++got.applied;
+        } else if (o->reason.find(over_rate) != std::string::npos) {
+            ++got.limited;
+        } else if (o->reason.find(" were lost on the way (more than ") != std::string::npos) {
+            ++got.lost;
+        } else {
+            ++got.other_reason;
+            ADD_FAILURE() << "request " << r << ": " << o->reason;
+        }
+    }
+    return got;
+}
+
 TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
     // One client writes 3,000 commands as fast as it can to a coordinator that takes 200 a second from
     // each client: past the burst, its commands are refused with the reason (over the rate, or lost on the
@@ -170,21 +197,8 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
     // repaired), so the bucket refills meanwhile; and a client keeps the last 256 answers it has not read.
     // What must hold: refusals that name the limit, and no more applied than the limit lets through.
     flooder->wait_outcome(last, std::chrono::seconds(5));
-    std::size_t applied = 0, limited = 0, lost = 0, other_reason = 0;
-    for (std::uint64_t r = first; r <= last; ++r) {
-        auto o = flooder->wait_outcome(r, std::chrono::milliseconds(0));
-        if (!o) continue;
-        if (o->applied) {
-            ++applied;
-        } else if (o->reason.find("client 'flooder' sends more than 200 commands a second: refused (rate "
-                                  "limit)") != std::string::npos) {
-            ++limited;
-        } else if (o->reason.find(" were lost on the way (more than ") != std::string::npos) {
-            ++lost;
-        } else {
-            ++other_reason;
-        }
-    }
+    const auto [applied, limited, lost, other_reason] =
+        read_flood_answers(*flooder, "flooder", first, last, 200);
     const double elapsed = std::chrono::duration<double>(Clock::now() - flood_start).count();
     std::printf(
         "flood answers read: %zu applied, %zu refused for the rate, %zu lost on the way, %zu otherwise, over "
@@ -223,7 +237,7 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     // instance keeps), no more are applied than the limit lets through, and nothing grows with the
     // commands sent (each was an instance of its own that the writer and the coordinators' readers kept:
     // 21 MiB for 29,000). What it prints and does not yet bound: the rate the flooder reached and the
-    // longest wait for a frame (on this 2-core machine 15,000-19,000 a second and stalls of 1.5-2.9 s: the
+    // longest wait for a frame (on this 2-core machine 11,000-19,000 a second and stalls of 1.5-4.2 s: the
     // flood fills the coordinators' UDP port, which their frame traffic shares; docs/protocol.md, "Garbage
     // on the wire").
     const int domain = 161;
@@ -284,23 +298,8 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     const double flood_s = std::chrono::duration<double>(Clock::now() - flood_start).count();
     const double rate = double(sent.load()) / flood_s;
     flooder->wait_outcome(last, std::chrono::seconds(5));
-    std::size_t applied = 0, limited = 0, lost = 0, other_reason = 0;
-    for (std::uint64_t r = first; r <= last; ++r) {
-        auto o = flooder->outcome(r);
-        if (!o) continue;
-        if (o->applied) {
-            ++applied;
-        } else if (o->reason.find(
-                       "client 'flooder' sends more than 1000 commands a second: refused (rate limit)") !=
-                   std::string::npos) {
-            ++limited;
-        } else if (o->reason.find(" were lost on the way (more than ") != std::string::npos) {
-            ++lost;
-        } else {
-            ++other_reason;
-            ADD_FAILURE() << "request " << r << ": " << o->reason;
-        }
-    }
+    const auto [applied, limited, lost, other_reason] =
+        read_flood_answers(*flooder, "flooder", first, last, 1000);
     const std::uint64_t rss_after = memory_use()->resident_bytes;
     const double grew_mib = (double(rss_after) - double(rss_before)) / (1024.0 * 1024.0);
     std::printf(
@@ -313,7 +312,13 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     EXPECT_GE(limited + lost, 1u);
     EXPECT_EQ(other_reason, 0u);
     EXPECT_LE(static_cast<double>(applied), 1000.0 + 1000.0 * flood_s + 1.0);
+#if defined(__SANITIZE_ADDRESS__)
+    // AddressSanitizer holds freed memory back (its quarantine): resident memory says nothing here, and
+    // LeakSanitizer checks what is kept at the end instead (measured: 137 MiB for 27,000 commands).
+    std::printf("resident memory not checked under AddressSanitizer\n");
+#else
     EXPECT_LT(grew_mib, 16.0) << "a command must not be kept once it is read";
+#endif
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
 }
 
