@@ -87,5 +87,10 @@ inline constexpr std::chrono::milliseconds beat_period(const Delivery& delivery)
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(const Delivery& delivery);
 eprosima::fastdds::dds::DataReaderQos reader_qos(const Delivery& delivery);
+/// The same, received on a UDP port of the reader's own (on every interface its participant may use),
+/// not the one its participant shares among all its readers: what floods this reader (a client's
+/// commands) then fills only that socket, and the participant's other traffic goes on. The port is one the
+/// system had free.
+eprosima::fastdds::dds::DataReaderQos reader_qos_on_own_port(const Delivery& delivery);
 
 }  // namespace lpss::dds

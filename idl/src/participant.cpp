@@ -6,6 +6,14 @@
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fastdds/rtps/common/Locator.h>
+#include <fastrtps/utils/IPLocator.h>
+
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -301,5 +309,29 @@ fdds::DataWriterQos writer_qos(const Delivery& d) {
 }
 
 fdds::DataReaderQos reader_qos(const Delivery& d) { return with_delivery(fdds::DATAREADER_QOS_DEFAULT, d); }
+
+fdds::DataReaderQos reader_qos_on_own_port(const Delivery& d) {
+    fdds::DataReaderQos q = reader_qos(d);
+    // A port the system has free now, asked for on every address; Fast DDS binds it again at once (the
+    // window in which another process could take it is that short). Address 0.0.0.0: Fast DDS lists the
+    // interfaces its transport's whitelist allows (only 127.0.0.1 with the built-in profile).
+    const int probe = ::socket(AF_INET, SOCK_DGRAM, 0);
+    if (probe < 0) return q;
+    sockaddr_in any{};
+    any.sin_family = AF_INET;
+    any.sin_addr.s_addr = htonl(INADDR_ANY);
+    any.sin_port = 0;
+    socklen_t length = sizeof(any);
+    const bool bound = ::bind(probe, reinterpret_cast<sockaddr*>(&any), sizeof(any)) == 0 &&
+                       ::getsockname(probe, reinterpret_cast<sockaddr*>(&any), &length) == 0;
+    ::close(probe);
+    if (!bound) return q;  // the participant's port, as any reader
+    eprosima::fastrtps::rtps::Locator_t own;
+    own.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(own, 0, 0, 0, 0);
+    own.port = ntohs(any.sin_port);
+    q.endpoint().unicast_locator_list.push_back(own);
+    return q;
+}
 
 }  // namespace lpss::dds

@@ -108,8 +108,9 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
     state->marks_in =
         std::make_unique<Reader<wire::WorkerFrame>>(p, marks, reader_qos(kWorkerMarks), &state->inbox);
-    state->commands_in = std::make_unique<Reader<wire::Command>>(
-        p, p.topic<wire::CommandPubSubType>(kCommands), reader_qos(kCommandDelivery), &state->inbox);
+    state->commands_in =
+        std::make_unique<Reader<wire::Command>>(p, p.topic<wire::CommandPubSubType>(kCommands),
+                                                reader_qos_on_own_port(kCommandDelivery), &state->inbox);
     state->sectors_in = std::make_unique<Reader<wire::SectorFrame>>(
         p, sectors, reader_qos(kSectorFrameReading), &state->inbox);
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
