@@ -185,6 +185,43 @@ std::pair<std::size_t, std::size_t> capture_a_run(int domain, const std::string&
     return {capture.count(kSecretName), capture.count(secret_position_bytes())};
 }
 
+TEST(Security, TheExamplesTakeTheirIdentitiesOnASecuredCluster) {
+    // The examples of client/examples on a secured cluster: the game backend with an operator's identity
+    // spawns its players; with an observer's, each spawn is refused (access control refused its commands
+    // writer); the observer with an observer's identity sees the stack 1e9 units out.
+    const int domain = 162;
+    const testing::DomainCleanup cleanup(domain);
+    Identities ids;
+    ASSERT_TRUE(ids.ok()) << ids.log();
+    auto cluster = start_cluster(std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/far_stacks.textproto", domain,
+                                 2, 3600, {"--security", ids.root()});
+    ASSERT_TRUE(cluster.process);
+    const std::string game_out = cluster.log_dir + "-game.out", denied_out = cluster.log_dir + "-denied.out",
+                      observer_out = cluster.log_dir + "-observer.out";
+    auto game = runtime::ChildProcess::start(LPSS_EXAMPLE_GAME,
+                                             {std::to_string(domain), "2", ids["operator"]}, game_out);
+    auto denied = runtime::ChildProcess::start(LPSS_EXAMPLE_GAME,
+                                               {std::to_string(domain), "1", ids["observer"]}, denied_out);
+    auto observer = runtime::ChildProcess::start(
+        LPSS_EXAMPLE_OBSERVER, {std::to_string(domain), "120", ids["observer"]}, observer_out);
+    ASSERT_TRUE(game && denied && observer);
+    for (auto* p : {&*game, &*denied, &*observer})
+        EXPECT_TRUE(p->wait(std::chrono::seconds(90)));
+    EXPECT_EQ(game->exit_code().value_or(-1), 0) << read_file(game_out);
+    EXPECT_EQ(denied->exit_code().value_or(-1), 0) << read_file(denied_out);
+    EXPECT_EQ(observer->exit_code().value_or(-1), 0) << read_file(observer_out);
+    cluster.process->stop();
+    const std::string game_text = read_file(game_out), denied_text = read_file(denied_out);
+    for (int n = 0; n < 4; ++n) {
+        const std::string player = "player " + std::to_string(9000 + n);
+        EXPECT_NE(game_text.find(player + " spawned at frame"), std::string::npos) << game_text;
+        EXPECT_NE(denied_text.find(player + " not spawned: this client's identity"), std::string::npos)
+            << denied_text;
+    }
+    const std::string observed = read_file(observer_out);
+    EXPECT_NE(observed.find("6 bodies in the region"), std::string::npos) << observed;
+}
+
 TEST(Security, ACaptureOfASecuredRunHoldsNoNameOrPositionInClear) {
     if (!LoopbackCapture().ok()) GTEST_SKIP() << "no raw socket on loopback here (needs CAP_NET_RAW)";
     const Identities ids;
