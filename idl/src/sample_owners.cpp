@@ -53,11 +53,13 @@ bool SampleOwners::admit(const wire::SectorFrame& sample, RefusedSamples& refuse
     const SectorAssignment* assignment = in_force(sample.frame());
     if (assignment == nullptr) return true;  // before every assignment known: cannot be judged
     const SectorKey key = from_wire(sample.sector());
-    const std::string where = "sample of sector " + sector_text(key) + " frame " +
-                              std::to_string(sample.frame()) + " from worker " +
-                              std::to_string(sample.worker());
+    // Named only when refused: every sample every reader takes comes through here.
+    auto where = [&] {
+        return "sample of sector " + sector_text(key) + " frame " + std::to_string(sample.frame()) +
+               " from worker " + std::to_string(sample.worker());
+    };
     if (sample.epoch() < assignment->epoch) {
-        refused.refuse(where + ": its epoch " + std::to_string(sample.epoch()) +
+        refused.refuse(where() + ": its epoch " + std::to_string(sample.epoch()) +
                        " is older than the one in force at its frame (" + std::to_string(assignment->epoch) +
                        ")");
         return false;
@@ -65,7 +67,7 @@ bool SampleOwners::admit(const wire::SectorFrame& sample, RefusedSamples& refuse
     if (sample.epoch() > assignment->epoch) {
         for (const auto& [from, known] : by_from_frame_) {
             if (known.epoch == sample.epoch()) {
-                refused.refuse(where + ": its epoch " + std::to_string(sample.epoch()) +
+                refused.refuse(where() + ": its epoch " + std::to_string(sample.epoch()) +
                                " is in force only from frame " + std::to_string(from));
                 return false;
             }
@@ -73,7 +75,7 @@ bool SampleOwners::admit(const wire::SectorFrame& sample, RefusedSamples& refuse
         return true;  // an assignment this reader missed (two written before it read one): cannot be judged
     }
     if (const std::uint32_t owner = assignment->owner_of(key); owner != sample.worker()) {
-        refused.refuse(where + ": the sector is worker " + std::to_string(owner) + "'s in epoch " +
+        refused.refuse(where() + ": the sector is worker " + std::to_string(owner) + "'s in epoch " +
                        std::to_string(assignment->epoch));
         return false;
     }
