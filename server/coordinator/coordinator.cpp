@@ -529,6 +529,10 @@ void Coordinator::State::refuse_lost(const wire::Command& c) {
 
 void Coordinator::State::accept(const wire::Command& c) {
     refuse_lost(c);
+    decide(c);
+}
+
+void Coordinator::State::decide(const wire::Command& c) {
     if (c.kind() != wire::kCommandReady && !command_rate.allow(c.client(), Clock::now())) {
         // Answered once for a run of them: a flood must not cost a write per command.
         if (over_rate && over_rate->last.client() == c.client() &&

@@ -195,8 +195,11 @@ struct Coordinator::State {
     void send_restored(std::uint64_t f, const SectorAssignment& fresh, const std::set<SectorKey>& keys,
                        const std::vector<std::uint32_t>& gone, Clock::time_point started);
     void accept_commands();
-    /// Accepts one command for the next frame, or refuses it with the reason.
+    /// A command read from a client: the commands lost before it are refused (refuse_lost), then it is
+    /// decided.
     void accept(const wire::Command& c);
+    /// Accepts one command for the next frame, or refuses it with the reason.
+    void decide(const wire::Command& c);
     /// The body set as a command another coordinator applied changes it (spawn, removal), for a standby.
     void follow_bodies(const wire::Command& c);
     /// Standing by: follows the coordinator until it is gone, then takes over. The frame of the coordinator's

@@ -41,7 +41,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     std::map<std::uint64_t, wire::FrameGo> starts;  ///< read, not yet followed
     std::optional<wire::FrameGo> last;              ///< the latest followed (and acknowledged if it asked)
     auto forget = [&](const std::string& client, std::uint64_t request) {
-        standing_commands.forget(client, request);
+        standing_commands.forget(client, request, request);
     };
     for (;;) {
         if (stop.load()) return std::uint64_t{0};
@@ -62,7 +62,9 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
         });
         // Answered (refused by the coordinator, or applied and answered by a worker): not this one's.
         results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
-            if (info.valid_data) forget(r.client(), r.request());
+            if (!info.valid_data) return;
+            const bool run = r.first_request() != 0 && r.first_request() < r.request();
+            standing_commands.forget(r.client(), run ? r.first_request() : r.request(), r.request());
         });
         go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || go.coordinator() == options.id || go.term() < term) return;
@@ -158,10 +160,13 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     // A gone worker's sectors it restored at this frame: the next start says so, for the workers to wait for.
     wrote_sectors = primary_wrote.count(frame) != 0;
     // Commands read and neither applied nor answered are this coordinator's now, in the order read.
+    // Their request numbers have gaps where the coordinator answered: not lost, so not checked for gaps;
+    // those are looked for from the newest request read of each client on.
     const std::vector<wire::Command> standing = standing_commands.take_all();
     for (const wire::Command& c : standing)
-        accept(c);
+        decide(c);
     answer_over_rate();
+    last_request = standing_commands.newest();
     publish_assignment();
     status("running", 0.0, statics.size());
     spdlog::warn(

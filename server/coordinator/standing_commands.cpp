@@ -1,8 +1,12 @@
 #include "standing_commands.hpp"
 
+#include <algorithm>
+
 namespace lpss::coordinator {
 
 void StandingCommands::add(const wire::Command& c) {
+    std::uint64_t& newest = newest_[c.client()];
+    newest = std::max(newest, c.request());
     Key key{c.client(), c.request()};
     if (answered_early_.erase(key) != 0) return;
     if (order_of_.count(key) != 0) return;  // read twice: once is enough
@@ -10,19 +14,23 @@ void StandingCommands::add(const wire::Command& c) {
     by_order_.emplace(next_order_++, c);
 }
 
-void StandingCommands::forget(const std::string& client, std::uint64_t request) {
-    Key key{client, request};
-    auto it = order_of_.find(key);
-    if (it != order_of_.end()) {
-        by_order_.erase(it->second);
-        order_of_.erase(it);
-        return;
-    }
-    if (!answered_early_.insert(key).second) return;
-    answered_early_order_.push_back(std::move(key));
-    if (answered_early_order_.size() > kMostEarlyAnswers) {
-        answered_early_.erase(answered_early_order_.front());
-        answered_early_order_.pop_front();
+void StandingCommands::forget(const std::string& client, std::uint64_t first, std::uint64_t last) {
+    // Only the newest kMostEarlyAnswers of a run can still be remembered as answered early.
+    if (last - first >= kMostEarlyAnswers) first = last - kMostEarlyAnswers + 1;
+    for (std::uint64_t request = first; request <= last; ++request) {
+        Key key{client, request};
+        auto it = order_of_.find(key);
+        if (it != order_of_.end()) {
+            by_order_.erase(it->second);
+            order_of_.erase(it);
+            continue;
+        }
+        if (!answered_early_.insert(key).second) continue;
+        answered_early_order_.push_back(std::move(key));
+        if (answered_early_order_.size() > kMostEarlyAnswers) {
+            answered_early_.erase(answered_early_order_.front());
+            answered_early_order_.pop_front();
+        }
     }
 }
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -23,10 +24,13 @@ public:
 
     /// A command read; ignored if its answer came first.
     void add(const wire::Command& c);
-    /// Applied or answered by the coordinator followed: not this one's.
-    void forget(const std::string& client, std::uint64_t request);
+    /// Applied or answered by the coordinator followed, requests `first` to `last` of `client` (an answer
+    /// can stand for a run of them): not this one's.
+    void forget(const std::string& client, std::uint64_t first, std::uint64_t last);
     /// Those left, in the order read; none are kept.
     std::vector<wire::Command> take_all();
+    /// The newest request read of each client: where the coordinator looks for gaps from, once it takes over.
+    const std::unordered_map<std::string, std::uint64_t>& newest() const { return newest_; }
     std::size_t size() const { return by_order_.size(); }
 
 private:
@@ -36,6 +40,7 @@ private:
     std::map<Key, std::uint64_t> order_of_;
     std::set<Key> answered_early_;
     std::deque<Key> answered_early_order_;  ///< oldest first, to bound answered_early_
+    std::unordered_map<std::string, std::uint64_t> newest_;
 };
 
 }  // namespace lpss::coordinator
