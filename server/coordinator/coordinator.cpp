@@ -862,9 +862,32 @@ void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& 
     }
     marks_out->write(restored);
     wrote_sectors = true;
+    if (restored_in_history == 0) {
+        restored_in_history = f;
+        restored_at = Clock::now();
+    }
     spdlog::info(
         "coordinator: {} bodies in {} sectors sent to their new owners, {:.3f} s after the frame ended",
         bodies, keys.size(), seconds_since(started));
+}
+
+void Coordinator::State::release_restored(std::uint64_t f) {
+    if (restored_in_history == 0 || f <= restored_in_history) return;
+    // A reader that has not acknowledged them by then is dead (Fast DDS unmatches a dead participant's
+    // readers after its lease, 20 s by default) or stalled; should it come back, it asks the sectors' owners
+    // for them whole, as a reader that joins late does.
+    constexpr auto kKeptAtMost = std::chrono::seconds(25);
+    const bool acknowledged = sectors_out->raw()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
+                                  0, 0)) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    if (!acknowledged && Clock::now() - restored_at < kKeptAtMost) return;
+    std::size_t removed = 0;
+    sectors_out->raw()->clear_history(&removed);
+    spdlog::info(
+        "coordinator: the sectors restored from frame {} on ({} samples) leave the writer's history: {}",
+        restored_in_history, removed,
+        acknowledged ? "every reader has them" : "a reader has not acknowledged them in 25 s");
+    restored_in_history = 0;
+    runtime::give_back_free_memory();
 }
 
 void Coordinator::State::collect_handoffs(std::uint64_t f) {
@@ -1081,6 +1104,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
                          removed);
         }
         if (f == 3) runtime::give_back_free_memory();
+        s.release_restored(f);
         s.collect_handoffs(f);
         if (!s.joining.empty() && s.next.epoch == s.current.epoch) s.admit(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&

@@ -29,29 +29,58 @@ using testing::write_scene;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kL = 32.0;
+/// The pen the balls bounce in: x in (-100, 100), y in (-57.5, 62.5), z in (-55, 65), closed on all six
+/// sides by static tiles 4 thick (a ball would need 300 units/s to pass one in a step; all the balls' energy
+/// in one gives 283). The tiles' seams lie halfway between the balls' lanes (y every 5, z every 10), so that
+/// the balls fly straight for long; they still drift sideways by float noise at each bounce, meet, and
+/// scatter. With walls on two sides only, 145 of 200 balls had flown off by frame 6,000 (in plain Bullet
+/// too), into ever new sectors: the world, and every process's memory with it, grew for as long as it ran.
+constexpr double kPenLow[3] = {-100.0, -57.5, -55.0};
+constexpr double kPenSide = 200.0, kPenHeight = 120.0;  ///< along x; along y and z
+constexpr double kWallHalfThickness = 2.0, kTileHalf = 10.0;
+constexpr int kTilesAlongX = 10, kTilesAcross = 6;
+constexpr BodyId kWallTiles = 2 * (kTilesAcross * kTilesAcross + 2 * kTilesAlongX * kTilesAcross);
+constexpr BodyId kBalls = 200;  ///< ids kWallTiles + 1 to kWallTiles + kBalls
 
-/// 2,000 boxes at rest far from a pen where 200 balls bounce between two walls along x, for ever (no
-/// gravity, no friction, restitution 1), through the borders of the sectors and workers they cross: 2,272
-/// bodies with the walls' tiles.
+bool in_pen(const Eigen::Vector3d& at) {
+    return at.x() > kPenLow[0] && at.x() < kPenLow[0] + kPenSide && at.y() > kPenLow[1] &&
+           at.y() < kPenLow[1] + kPenHeight && at.z() > kPenLow[2] && at.z() < kPenLow[2] + kPenHeight;
+}
+
+/// 2,000 boxes at rest far from a pen where 200 balls bounce for ever (no gravity, no friction, restitution
+/// 1), through the borders of the sectors and workers they cross: 2,512 bodies with the pen's tiles.
 Scene soak_scene() {
     Scene scene;
     scene.settings.sector_size = kL;
     scene.settings.gravity = Eigen::Vector3d::Zero();
     scene.settings.sleeping = true;
     BodyId id = 1;
-    // Each wall in tiles no larger than a sector (a body larger than a sector is refused).
-    for (int side = 0; side < 2; ++side) {
-        for (int j = 0; j < 6; ++j) {
-            for (int k = 0; k < 6; ++k) {
-                BodyDesc tile = scenes::box_body(
-                    id++, Eigen::Vector3d(0.5, 10, 10), 0.0,
-                    Eigen::Vector3d(side ? 100.5 : -100.5, -50.0 + 20.0 * j, -50.0 + 20.0 * k));
-                tile.material = Material{0, 1};
-                scene.bodies.push_back(tile);
+    // Each wall in tiles no larger than a sector (a body larger than a sector is refused). `across` and
+    // `along` count tiles from the pen's low corner; `normal` is the axis the wall faces.
+    auto tile = [&](int normal, bool high, int a, int b) {
+        const int u = (normal + 1) % 3, v = (normal + 2) % 3;
+        Eigen::Vector3d half = Eigen::Vector3d::Constant(kTileHalf), at;
+        half[normal] = kWallHalfThickness;
+        const double extent[3] = {kPenSide, kPenHeight, kPenHeight};
+        at[normal] = high ? kPenLow[normal] + extent[normal] + kWallHalfThickness
+                          : kPenLow[normal] - kWallHalfThickness;
+        at[u] = kPenLow[u] + kTileHalf * (2 * a + 1);
+        at[v] = kPenLow[v] + kTileHalf * (2 * b + 1);
+        BodyDesc body = scenes::box_body(id++, half, 0.0, at);
+        body.material = Material{0, 1};
+        scene.bodies.push_back(body);
+    };
+    for (int normal = 0; normal < 3; ++normal) {
+        const int along_u = normal == 2 ? kTilesAlongX : kTilesAcross;  // u is x for the z walls
+        const int along_v = normal == 1 ? kTilesAlongX : kTilesAcross;  // v is x for the y walls
+        for (bool high : {false, true}) {
+            for (int a = 0; a < along_u; ++a) {
+                for (int b = 0; b < along_v; ++b)
+                    tile(normal, high, a, b);
             }
         }
     }
-    for (int n = 0; n < 200; ++n) {
+    for (int n = 0; n < static_cast<int>(kBalls); ++n) {
         const double y = -50.0 + 5.0 * (n % 21), z = -50.0 + 10.0 * (n / 21);
         BodyDesc ball = scenes::sphere_body(id++, 0.5, 1.0, Eigen::Vector3d(-90.0 + 0.9 * n, y, z));
         ball.linear_velocity = Eigen::Vector3d((n % 2 ? -1 : 1) * (10.0 + n % 20), 0, 0);
@@ -126,7 +155,8 @@ TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
         restarted.emplace(w, std::move(*again));
         return true;
     };
-    std::size_t frames_seen = 0, wrong = 0, kills = 0, skips_told = 0;
+    std::size_t frames_seen = 0, wrong = 0, kills = 0, skips_told = 0, escaped = 0;
+    std::string first_escape;
     double longest_wait = 0.0;
     std::uint64_t last_frame = 0;
     std::string first_wrong;
@@ -168,6 +198,13 @@ TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
                                     b.id, it->second->position.sector.i, it->second->position.sector.j,
                                     it->second->position.sector.k, it->second->worker, b.position.sector.i,
                                     b.position.sector.j, b.position.sector.k, b.worker);
+            }
+            // The balls stay in their pen: one outside it went through a wall or over it (and the world
+            // then grows by the sectors it flies into).
+            for (const BodyView& b : f.bodies) {
+                if (b.id > kWallTiles && b.id <= kWallTiles + kBalls && !in_pen(b.global) && escaped++ == 0)
+                    first_escape = fmt::format("frame {}: ball {} at ({:.1f}, {:.1f}, {:.1f})", f.frame, b.id,
+                                               b.global.x(), b.global.y(), b.global.z());
             }
             if (ids.size() != scene.bodies.size() || f.bodies.size() != scene.bodies.size()) {
                 if (wrong++ == 0)
@@ -237,15 +274,24 @@ TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
     }
 
     std::printf(
-        "%.1f min: %zu frames seen (the last %llu), %zu with a body missing or twice%s%s; the longest "
-        "wait for a frame %.2f s; %zu workers killed and started again, %zu taken as gone that joined "
-        "again, the coordinator %s\n",
+        "%.1f min: %zu frames seen (the last %llu), %zu with a body missing or twice%s%s; %zu balls seen out "
+        "of their pen%s%s; the longest wait for a frame %.2f s; %zu workers killed and started again, %zu "
+        "taken as gone that joined again, the coordinator %s\n",
         minutes, frames_seen, static_cast<unsigned long long>(last_frame), wrong, wrong ? ", first: " : "",
-        first_wrong.c_str(), longest_wait, kills, rejoins, coordinator_killed ? "killed once" : "not killed");
+        first_wrong.c_str(), escaped, escaped ? ", first: " : "", first_escape.c_str(), longest_wait, kills,
+        rejoins, coordinator_killed ? "killed once" : "not killed");
     EXPECT_EQ(wrong, 0u) << first_wrong;
+    EXPECT_EQ(escaped, 0u) << "balls out of their pen, first: " << first_escape;
     EXPECT_GT(frames_seen, 0u);
     EXPECT_TRUE(coordinator_killed);
     EXPECT_LT(longest_wait, 5.0) << "a pause beyond what a fault costs";
+    // Every process's resident memory as sampled, for a reader looking for when a process grew.
+    for (const auto& [pid, series] : memory) {
+        std::string line;
+        for (const auto& [t, mib] : series.second)
+            line += fmt::format(" {:.0f}:{:.1f}", t, mib);
+        std::printf("  %s (pid %d), seconds:MiB%s\n", series.first.c_str(), pid, line.c_str());
+    }
     // Resident memory of each process that lived through most of the run: 60% of the way in, and last.
     std::size_t compared = 0;
     for (const auto& [pid, series] : memory) {
