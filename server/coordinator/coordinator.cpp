@@ -184,7 +184,17 @@ void Coordinator::State::pump() {
         last_heard[m.worker()] = Clock::now();
         writer_of[info.publication_handle] = m.worker();
         // Its hello before the world runs, or a mark of a frame: not a newcomer's hello or ask to join.
-        if (m.frame() > 0 || frame == 0) running_writer[m.worker()] = info.publication_handle;
+        if (m.frame() > 0 || frame == 0) {
+            running_writer[m.worker()] = info.publication_handle;
+            // Running under the id of one whose lease lapsed: started again, and the lapse was its old
+            // self's. (A coordinator has taken that one as gone by now; a standby, which leaves deaths to
+            // the coordinator, kept it, and took every worker ever restarted as gone at its takeover.)
+            if (auto since = lost_since.find(m.worker());
+                since != lost_since.end() && since->second.writer != info.publication_handle) {
+                lost.erase(m.worker());
+                lost_since.erase(since);
+            }
+        }
         if (auto since = lost_since.find(m.worker()); since != lost_since.end() &&
                                                       since->second.writer == info.publication_handle &&
                                                       info.source_timestamp.to_ns() > since->second.at_ns) {

@@ -1446,6 +1446,70 @@ TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
     EXPECT_EQ(text.find("worker 3 is gone"), std::string::npos) << text;
 }
 
+TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
+    // Worker 2 is killed and started again under its id, and joins; then the coordinator is killed. The
+    // standby had noted worker 2's death too, and the deaths it notes while standing by are the
+    // coordinator's to handle: taking over, it must not take the worker running under that id now (nor
+    // any other) as gone. Seen before: in every soak, the standby took every worker killed earlier in the
+    // run as gone at its takeover, and each stopped and joined again.
+    const Scene scene = crossing_scene_with_far_balls();
+    const int domain = 163;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "restart_then_takeover");
+    constexpr std::uint64_t kFrames = 900;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "watcher");
+    ASSERT_TRUE(client);
+    BodiesPerWorker owners(domain);
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1", "--realtime"});
+    ASSERT_TRUE(cluster.process);
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::uint64_t killed_at = kFrames;
+    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
+        collect_into(
+            *client, frames, last, limit, [&](std::uint64_t) { owners.poll(killed_at + 10); },
+            std::chrono::milliseconds(5));
+    };
+    gather(120, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    killed_at = frames.rbegin()->first;
+    gather(killed_at + 60, std::chrono::seconds(60));
+    auto restarted = runtime::ChildProcess::start(
+        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "2"}, cluster.log_dir + ".restarted2");
+    ASSERT_TRUE(restarted);
+    // Until the restarted worker has simulated bodies (the standby has read its marks of frames too).
+    const auto joined_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (owners.most(2) == 0 && std::chrono::steady_clock::now() < joined_by)
+        gather(frames.rbegin()->first + 10, std::chrono::seconds(10));
+    ASSERT_GT(owners.most(2), 0u) << "the restarted worker joined; logs: " << cluster.log_dir;
+    gather(frames.rbegin()->first + 30, std::chrono::seconds(10));
+    const std::uint64_t coordinator_killed_at = frames.rbegin()->first;
+    ASSERT_LT(coordinator_killed_at + 100, kFrames) << "time left to run after the takeover";
+    const std::string coordinator =
+        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    gather(kFrames, std::chrono::seconds(60));
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
+    ASSERT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
+    double worst = 0.0;
+    ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
+    std::printf(
+        "worker 2 killed after frame %llu and started again, the coordinator killed after frame %llu; "
+        "largest "
+        "difference from lpss-sim %.3g\n",
+        static_cast<unsigned long long>(killed_at), static_cast<unsigned long long>(coordinator_killed_at),
+        worst);
+    EXPECT_LE(worst, 1e-3);
+    const std::string text = read_file(cluster.log_dir + "/standby.log");
+    const auto took_over = text.find("taking over under term 2");
+    ASSERT_NE(took_over, std::string::npos) << text;
+    EXPECT_EQ(text.find("taken as gone", took_over), std::string::npos) << text;
+    EXPECT_EQ(text.find("is gone", took_over), std::string::npos) << text;
+}
+
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
     // Without a standby coordinator (none is started here), when the coordinator is killed mid-run, the
     // workers must not wait in silence for ever. They hear no coordinator for its lease (0.3 s), say so,
