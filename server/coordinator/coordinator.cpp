@@ -495,6 +495,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     at = {};
     runtime::give_back_free_memory();
     wrote_sectors = true;
+    hold_history(0);
     return {};
 }
 
@@ -872,31 +873,34 @@ void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& 
     }
     marks_out->write(restored);
     wrote_sectors = true;
-    if (restored_in_history == 0) {
-        restored_in_history = f;
-        restored_at = Clock::now();
-    }
+    hold_history(f);
     spdlog::info(
         "coordinator: {} bodies in {} sectors sent to their new owners, {:.3f} s after the frame ended",
         bodies, keys.size(), seconds_since(started));
 }
 
-void Coordinator::State::release_restored(std::uint64_t f) {
-    if (restored_in_history == 0 || f <= restored_in_history) return;
+void Coordinator::State::hold_history(std::uint64_t f) {
+    if (history_from) return;
+    history_from = f;
+    history_written_at = Clock::now();
+}
+
+void Coordinator::State::release_history(std::uint64_t f) {
+    if (!history_from || f <= *history_from) return;
     // A reader that has not acknowledged them by then is dead (Fast DDS unmatches a dead participant's
     // readers after its lease, 20 s by default) or stalled; should it come back, it asks the sectors' owners
     // for them whole, as a reader that joins late does.
     constexpr auto kKeptAtMost = std::chrono::seconds(25);
     const bool acknowledged = sectors_out->raw()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
                                   0, 0)) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
-    if (!acknowledged && Clock::now() - restored_at < kKeptAtMost) return;
+    if (!acknowledged && Clock::now() - history_written_at < kKeptAtMost) return;
     std::size_t removed = 0;
     sectors_out->raw()->clear_history(&removed);
     spdlog::info(
-        "coordinator: the sectors restored from frame {} on ({} samples) leave the writer's history: {}",
-        restored_in_history, removed,
-        acknowledged ? "every reader has them" : "a reader has not acknowledged them in 25 s");
-    restored_in_history = 0;
+        "coordinator: {} written from frame {} on ({} samples) leave the writer's history after frame {}: {}",
+        *history_from == 0 ? "the world's first state and the sectors" : "the sectors", *history_from,
+        removed, f, acknowledged ? "every reader has them" : "a reader has not acknowledged them in 25 s");
+    history_from.reset();
     runtime::give_back_free_memory();
 }
 
@@ -1102,19 +1106,12 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             continue;  // stopping: the next round sends the stop
         }
         s.ended.assign(s.live.begin(), s.live.end());
-        // Every worker has ended frame 2, so every worker holds the world's first state, and so does every
-        // client frame 1 waited for: it leaves this writer's history (380 bytes a body: 537 MiB at a million
-        // bodies). A reader that comes later asks for an inventory and gets its sectors whole from their
-        // owners. The first frames' samples (whole for sectors not in the first state) have gone into the
-        // copy of the world by now: their buffers are free too.
-        if (f == 2) {
-            std::size_t removed = 0;
-            s.sectors_out->raw()->clear_history(&removed);
-            spdlog::info("coordinator: the world's first state ({} samples) leaves its writer's history",
-                         removed);
-        }
+        // The world's first state, or sectors restored after a death, leave the history once every reader
+        // has them. A reader that comes later asks for an inventory and gets its sectors whole from their
+        // owners. (Cleared at frame 2 before, whether read or not: under load a reader there before frame 1
+        // lost the first state and showed 30 frames with bodies missing.)
         if (f == 3) runtime::give_back_free_memory();
-        s.release_restored(f);
+        s.release_history(f);
         s.collect_handoffs(f);
         if (!s.joining.empty() && s.next.epoch == s.current.epoch) s.admit(f);
         if (o.rebalance_every > 0 && f % o.rebalance_every == 0 && s.live.size() > 1 &&

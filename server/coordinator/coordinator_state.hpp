@@ -42,14 +42,17 @@ struct Coordinator::State {
     std::unique_ptr<dds::Writer<wire::WorkerFrame>>
         marks_out;  ///< as worker 0, when it writes sectors itself
     /// The world's first state, and the sectors of a worker that is gone. Its history serves them to readers
-    /// that join or fall behind until every reader has them (see release_restored).
+    /// that join or fall behind until every reader has them (see release_history).
     std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
-    /// The frame of the first sectors restored from the copy of the world that are still in sectors_out's
-    /// history (0: none), and when: eight samples deep per sector, that history held up to eight copies of
-    /// the restored part of the world after a few worker deaths (measured: 0.8 MB after one restore in a
-    /// world of 2,512 bodies; 380 bytes a body restored).
-    std::uint64_t restored_in_history = 0;
-    Clock::time_point restored_at;
+    /// The frame of the oldest samples in sectors_out's history still to be released (none: all released),
+    /// and when they were written. The first state is 380 bytes a body (537 MiB at a million bodies); the
+    /// sectors restored after a death are as much per body restored, eight samples deep per sector: kept,
+    /// they held up to eight copies of the restored part of the world after a few deaths (measured: 0.8 MB
+    /// after one restore in a world of 2,512 bodies).
+    std::optional<std::uint64_t> history_from;
+    Clock::time_point history_written_at;
+    /// The samples just written to sectors_out (at frame `f`) wait in its history for release_history.
+    void hold_history(std::uint64_t f);
     /// The instance of each sector it wrote (idl/lpss.idl: one per sector, never reused): the world's first
     /// state stays in its history, for readers there before frame 1.
     std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> slots;
@@ -175,9 +178,9 @@ struct Coordinator::State {
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
     bool wrote_sectors = false;  ///< for the frame before the next: its FrameGo says so
-    /// Once every reader has acknowledged the restored sectors (or `frame` is long past them): they leave
-    /// sectors_out's history, and the heap gives back what the restore took.
-    void release_restored(std::uint64_t frame);
+    /// Once every reader has acknowledged what sectors_out holds (or 25 s have passed), after `frame` has
+    /// ended: it leaves the history, and the heap gives back what writing it took.
+    void release_history(std::uint64_t frame);
     std::vector<std::uint32_t> ended;
     Clock::time_point frame_started;
 

@@ -337,7 +337,12 @@ void Worker::State::pump() {
 void Worker::State::take_sample(const wire::SectorFrame& f) {
     if (f.worker() == options.id || f.frame() < sample_floor) return;
     const wire::FrameGo* latest = gate.latest();
-    if (std::string why = dds::implausible(f, std::max(frame, latest ? latest->frame() : 0)); !why.empty())
+    // A worker not yet in the world reads the coordinator's frame starts from its writer's history, which
+    // can come in a burst after newer samples (seen in the soak: 111 frames behind, and the sector sample
+    // that a joiner was waiting for refused; its first frame then waited 2 s and started degraded).
+    const std::uint64_t ahead = world ? dds::kFramesAhead : dds::kClientFramesAhead;
+    if (std::string why = dds::implausible(f, std::max(frame, latest ? latest->frame() : 0), ahead);
+        !why.empty())
         return refused_samples.refuse(why);
     if (!owners.admit(f, refused_samples)) return;
     received_bytes[f.frame()] += wire::SectorFrame::getCdrSerializedSize(f);

@@ -1121,6 +1121,9 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     for (int id : {2, 4}) {
         const std::string log = read_file(cluster.log_dir + ".joined" + std::to_string(id));
         EXPECT_NE(log.find("joins the cluster with sectors"), std::string::npos) << log;
+        // A joiner reads the frame starts it missed in a burst, after newer samples: none of those is
+        // refused as too far ahead (seen in the soak, the sector it was given among them).
+        EXPECT_EQ(log.find("ahead of the newest started"), std::string::npos) << log;
     }
 }
 
@@ -1797,12 +1800,14 @@ TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
     const Region region{{-1, -1, -1}, {0, 1, 0}};
     auto regional = connect(domain, "regional-changes", region, FrameContent::changes);
     ASSERT_TRUE(every && changes && regional);
-#if defined(__SANITIZE_ADDRESS__)
-    // Under AddressSanitizer the three clients (one thread) fall behind a real-time world and show fewer of
-    // its frames (123 of 300 compared in one run): twice the frames for as many compared.
-    constexpr std::uint64_t kFrames = 600;
-#else
     constexpr std::uint64_t kFrames = 300;
+#if defined(__SANITIZE_ADDRESS__)
+    // Under AddressSanitizer the three clients (one thread) fall behind a real-time world, and a client that
+    // falls behind skips to the newest frame it can show: fewer frames are seen by two clients (111 of 300
+    // beside another cluster test). Each one compared is still checked body by body.
+    constexpr std::size_t kFramesCompared = 50;
+#else
+    constexpr std::size_t kFramesCompared = 150;
 #endif
     auto cluster = start_cluster(path, domain, 2, kFrames, {"--realtime"});
     ASSERT_TRUE(cluster.process);
@@ -1827,7 +1832,12 @@ TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
     } whole_world, in_region;
     std::map<std::uint64_t, WorldFrame> seen;
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while ((seen.empty() || seen.rbegin()->first < kFrames) && std::chrono::steady_clock::now() < end) {
+    // Until each client has read the last frame: a client of changes reads every frame and can fall behind
+    // the client of every body, which skips to the newest (seen under AddressSanitizer: 74 frames read
+    // when the other had read frame 300).
+    auto behind = [&](const auto& frames) { return frames.empty() || frames.rbegin()->first < kFrames; };
+    while ((behind(seen) || behind(whole_world.at) || behind(in_region.at)) &&
+           std::chrono::steady_clock::now() < end) {
         for (WorldFrame& f : every->poll(std::chrono::milliseconds(5)))
             seen[f.frame] = std::move(f);
         for (WorldFrame& f : changes->poll())
@@ -1867,8 +1877,8 @@ TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
         "%zu whole, %.1f bodies per frame after the first\n",
         compared, compared_region, whole_world.frames, whole_world.whole,
         whole_world.frames > 1 ? static_cast<double>(whole_world.changed) / (whole_world.frames - 1) : 0.0);
-    EXPECT_GE(compared, 150u);
-    EXPECT_GE(compared_region, 150u);
+    EXPECT_GE(compared, kFramesCompared);
+    EXPECT_GE(compared_region, kFramesCompared);
     EXPECT_EQ(whole_world.whole, 1u) << "one frame of every body, then changes";
     EXPECT_GT(in_region.departed, 0u) << "bodies left the region";
     // What moves is the balls and what they hit, not the 3,000 resting bodies.
