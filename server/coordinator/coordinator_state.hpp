@@ -53,8 +53,11 @@ struct Coordinator::State {
     Clock::time_point history_written_at;
     /// The samples just written to sectors_out (at frame `f`) wait in its history for release_history.
     void hold_history(std::uint64_t f);
+    /// Once every reader has acknowledged what sectors_out holds (or 25 s have passed), after `frame` has
+    /// ended: it leaves the history, and the heap gives back what writing it took.
+    void release_history(std::uint64_t frame);
     /// The instance of each sector it wrote (idl/lpss.idl: one per sector, never reused): the world's first
-    /// state stays in its history, for readers there before frame 1.
+    /// state stays in its history until every reader there before frame 1 has it.
     std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> slots;
     std::uint32_t slot_of(const SectorKey& key) {
         return slots.try_emplace(key, static_cast<std::uint32_t>(slots.size())).first->second;
@@ -178,9 +181,6 @@ struct Coordinator::State {
     std::uint64_t frame = 0;
     std::uint64_t handoffs = 0;
     bool wrote_sectors = false;  ///< for the frame before the next: its FrameGo says so
-    /// Once every reader has acknowledged what sectors_out holds (or 25 s have passed), after `frame` has
-    /// ended: it leaves the history, and the heap gives back what writing it took.
-    void release_history(std::uint64_t frame);
     std::vector<std::uint32_t> ended;
     Clock::time_point frame_started;
 
