@@ -122,7 +122,8 @@ public:
     /// kept for late readers: one sent before that is lost). False if no cluster appeared.
     bool wait_for_cluster(std::chrono::milliseconds limit);
     /// Takes what arrived, waiting up to `wait` for it, and returns every frame that became complete, in
-    /// order (also passed to the on_frame callback).
+    /// order (also passed to the on_frame callback). Call it at least every two seconds (120 frames at
+    /// 60 Hz): a client polled less often has lost frame marks and asks the workers for its sectors again.
     std::vector<WorldFrame> poll(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
     /// Called from poll() with each complete frame.
     void on_frame(std::function<void(const WorldFrame&)> callback);
