@@ -43,29 +43,10 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     auto forget = [&](const std::string& client, std::uint64_t request) {
         standing_commands.forget(client, request, request);
     };
-    for (;;) {
-        if (stop.load()) return std::uint64_t{0};
-        pump();
-        assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
-            if (!info.valid_data || a.coordinator() == options.id) return;
-            settings = dds::from_wire(a.settings());
-            grid = SectorGrid(settings.sector_size);
-            largest_radius = std::max(largest_radius, a.largest_radius());
-        });
-        planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
-            if (!info.valid_data) return;  // removals come as commands
-            planes[d.id()] = dds::from_wire(d);
-            statics[d.id()] = true;
-        });
-        commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
-            if (info.valid_data) standing_commands.add(c);
-        });
-        // Answered (refused by the coordinator, or applied and answered by a worker): not this one's.
-        results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
-            if (!info.valid_data) return;
-            const bool run = r.first_request() != 0 && r.first_request() < r.request();
-            standing_commands.forget(r.client(), run ? r.first_request() : r.request(), r.request());
-        });
+    // The frame starts read, followed in order. Each is acknowledged as soon as it is read: workers wait for
+    // the acknowledgement before they step, so what the follow costs after it (the frame's samples into
+    // the copy of the world) is off their path. Nothing when the follow goes on; else what follow() returns.
+    auto follow_starts = [&]() -> std::optional<Expected<std::uint64_t>> {
         go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || go.coordinator() == options.id || go.term() < term) return;
             lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
@@ -115,13 +96,42 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
                 if (n < go.command_sequence().size())
                     followed_order = std::max(followed_order, go.command_sequence()[n]);
             }
+            if (go.standby() == options.id) acknowledge(frame);
             take_samples(frame - 1);
             for (auto it = marks.begin(); it != marks.end();)
                 it = it->first.second + 1 < frame ? marks.erase(it) : std::next(it);
-            if (go.standby() == options.id) acknowledge(frame);
             last = go;
             starts.erase(starts.begin());
         }
+        return std::nullopt;
+    };
+    for (;;) {
+        if (stop.load()) return std::uint64_t{0};
+        // Before and after the samples read meanwhile, which may be many: a start read in between waits
+        // for them alone.
+        if (auto ended = follow_starts()) return std::move(*ended);
+        pump();
+        if (auto ended = follow_starts()) return std::move(*ended);
+        assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || a.coordinator() == options.id) return;
+            settings = dds::from_wire(a.settings());
+            grid = SectorGrid(settings.sector_size);
+            largest_radius = std::max(largest_radius, a.largest_radius());
+        });
+        planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;  // removals come as commands
+            planes[d.id()] = dds::from_wire(d);
+            statics[d.id()] = true;
+        });
+        commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) standing_commands.add(c);
+        });
+        // Answered (refused by the coordinator, or applied and answered by a worker): not this one's.
+        results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;
+            const bool run = r.first_request() != 0 && r.first_request() < r.request();
+            standing_commands.forget(r.client(), run ? r.first_request() : r.request(), r.request());
+        });
         if (primary_lost && last) {
             if (last->standby() != options.id)
                 return Error{
