@@ -282,6 +282,10 @@ int main(int argc, char** argv) {
         if (last_frame > memory_frame && Clock::now() - memory_taken > std::chrono::milliseconds(200)) {
             // Only while every process is there: at the end they go one by one.
             bool all = lpss::memory_use(active->pid()).has_value();
+            // The standby too: it ends first when the world does, and a sample taken as it went counted it
+            // as 0 MiB (seen in cluster-scale at a million bodies).
+            if (standby && !taken_over && !standby_gone)
+                all = all && lpss::memory_use(standby->pid()).has_value();
             for (ChildProcess& c : children)
                 all = all && lpss::memory_use(c.pid()).has_value();
             if (all) {
