@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "coordinator_state.hpp"
+#include "heap.hpp"
 #include "lpss_dds/convert.hpp"
 
 namespace lpss::coordinator {
@@ -98,6 +99,10 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             }
             if (go.standby() == options.id) acknowledge(frame);
             take_samples(frame - 1);
+            // The world's first state is in the copy now, and the samples that carried it are freed: their
+            // memory goes back, as the coordinator's does (about 0.18 KB a body, which the standby held
+            // beyond the coordinator for the whole run).
+            if (frame == 3) runtime::give_back_free_memory();
             for (auto it = marks.begin(); it != marks.end();)
                 it = it->first.second + 1 < frame ? marks.erase(it) : std::next(it);
             last = go;
