@@ -591,15 +591,18 @@ void World::Impl::step() {
     stats = FrameStats{};
     stats.frame = frame;
 
-    // Only bodies of sectors stepped last frame, and bodies touched by commands, can have moved.
+    // Only bodies the last step found active (before or after it: see step_sectors), and bodies touched
+    // by commands, can have moved. Not every body of a stepped sector: a ball rolling through a sector of
+    // resting boxes cost a border and sector check for each box, every frame.
     std::vector<std::uint32_t>& candidates = candidate_scratch;
     candidates.clear();
     for (engine::SectorId id : step_set) {
         Sector& s = sectors.at(id);
         s.stepping = false;
         for (std::uint32_t slot : s.originals) {
-            if (record(slot).visit_frame != frame) {
-                record(slot).visit_frame = frame;
+            BodyRecord& rec = record(slot);
+            if (rec.moved_frame + 1 == frame && rec.visit_frame != frame) {
+                rec.visit_frame = frame;
                 candidates.push_back(slot);
             }
         }
