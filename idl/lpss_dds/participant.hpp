@@ -247,16 +247,18 @@ public:
     Reader& operator=(const Reader&) = delete;
 
     bool ok() const { return reader_ != nullptr; }
-    /// Takes the samples available when called and calls each(sample, info) for each (a disposed instance
-    /// is passed with info.valid_data false). Returns how many were taken. Those that arrive meanwhile wait
-    /// for the next call: a reader slower than its writers would otherwise never return (seen: a client
-    /// that joined a drifting world taking sector samples for minutes, its marks never read).
+    /// Takes the samples available when called (at most `at_most` of them) and calls each(sample, info) for
+    /// each (a disposed instance is passed with info.valid_data false). Returns how many were taken. Those
+    /// that arrive meanwhile wait for the next call: a reader slower than its writers would otherwise never
+    /// return (seen: a client that joined a drifting world taking sector samples for minutes, its marks never
+    /// read).
     template <class F>
-    int take_all(F&& each) {
+    int take_all(F&& each, std::uint64_t at_most = ~std::uint64_t{0}) {
         int count = 0;
         T sample;
         fdds::SampleInfo info;
-        for (std::uint64_t left = std::max<std::uint64_t>(reader_->get_unread_count(), 1); left > 0; --left) {
+        for (std::uint64_t left = std::min(std::max<std::uint64_t>(reader_->get_unread_count(), 1), at_most);
+             left > 0; --left) {
             if (reader_->take_next_sample(&sample, &info) !=
                 eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
                 break;
@@ -273,6 +275,8 @@ public:
         reader_->get_subscription_matched_status(status);
         return status.current_count;
     }
+    /// Samples received and not taken yet.
+    std::uint64_t unread() const { return reader_->get_unread_count(); }
     fdds::DataReader* raw() { return reader_; }
 
 private:

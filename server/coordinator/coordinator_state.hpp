@@ -94,6 +94,7 @@ struct Coordinator::State {
     std::uint32_t standby = 0;
     std::uint32_t dropped_standby = 0;                          ///< the one dropped, until it comes back
     std::optional<dds::fdds::InstanceHandle_t> standby_writer;  ///< its acknowledgements' writer
+    std::uint64_t standby_acked = 0;                            ///< the latest frame it acknowledged
     wire::FrameGo last_go;  ///< the latest written: written again without a standby that is gone
     /// Marks of frames a coordinator wrote sector samples for (worker 0's), as a standby learns them.
     std::set<std::uint64_t> primary_wrote;
@@ -186,7 +187,14 @@ struct Coordinator::State {
 
     void status(const std::string& phase, double progress, std::uint64_t bodies);
     Status load_and_seed(const std::atomic<bool>& stop);
-    void pump();
+    /// Takes what has come: the workers' marks, liveliness changes, other coordinators' words and, unless
+    /// `with_samples` is false, sector samples (take_sector_samples).
+    void pump(bool with_samples = true);
+    /// Takes the sector samples that have come (at most `at_most`), each checked and queued for its frame
+    /// (take_sample). Returns how many were taken.
+    int take_sector_samples(std::uint64_t at_most = ~std::uint64_t{0});
+    /// Waits, at most `patience`, until the standby (if one is named) acknowledges frame f's start.
+    void await_acknowledgement(std::uint64_t f, std::chrono::microseconds patience);
     /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
     void take_sample(const wire::SectorFrame& f);
     /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.

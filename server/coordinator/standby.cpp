@@ -15,6 +15,12 @@
 
 namespace lpss::coordinator {
 
+namespace {
+/// Sector samples a standby takes between two looks for a frame start: a start waits for this many at most
+/// (a few dozen microseconds of work).
+constexpr std::uint64_t kSamplesBetweenStarts = 16;
+}  // namespace
+
 void Coordinator::State::acknowledge(std::uint64_t f) {
     wire::FrameAck ack;
     ack.coordinator(options.id);
@@ -98,6 +104,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
                     followed_order = std::max(followed_order, go.command_sequence()[n]);
             }
             if (go.standby() == options.id) acknowledge(frame);
+            take_sector_samples();
             take_samples(frame - 1);
             // The world's first state is in the copy now, and the samples that carried it are freed: their
             // memory goes back, as the coordinator's does (about 0.18 KB a body, which the standby held
@@ -112,10 +119,18 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     };
     for (;;) {
         if (stop.load()) return std::uint64_t{0};
-        // Before and after the samples read meanwhile, which may be many: a start read in between waits
-        // for them alone.
+        // The samples read meanwhile, which may be many, a few at a time with the starts looked for in
+        // between: taken all at once, a start read meanwhile waited for all of them, and every worker with
+        // it. Those that come while this goes on wait for the next round, so that the other readers are
+        // looked at too.
         if (auto ended = follow_starts()) return std::move(*ended);
-        pump();
+        pump(false);
+        for (std::uint64_t left = sectors_in->unread(); left > 0;) {
+            const int taken = take_sector_samples(std::min<std::uint64_t>(left, kSamplesBetweenStarts));
+            if (taken == 0) break;
+            left -= std::min<std::uint64_t>(left, static_cast<std::uint64_t>(taken));
+            if (auto ended = follow_starts()) return std::move(*ended);
+        }
         if (auto ended = follow_starts()) return std::move(*ended);
         assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || a.coordinator() == options.id) return;
