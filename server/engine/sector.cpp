@@ -20,6 +20,7 @@ Sector::Sector(const SectorKey& k, const Eigen::Vector3d& a, btCollisionConfigur
     // Only moving objects need their broadphase boxes refreshed each step; the engine refreshes a
     // sleeping clone's box itself when it moves one.
     world.setForceUpdateAllAabbs(false);
+    world.skip_resting_prediction = true;
 }
 
 Sector::Sector(const SectorKey& k, const btVector3& gravity, const WorldSettings& settings)
@@ -34,6 +35,19 @@ Sector::Sector(const SectorKey& k, const btVector3& gravity, const WorldSettings
     world.friction_rule = settings.friction_combine;
     world.restitution_rule = settings.restitution_combine;
     world.setSynchronizeAllMotionStates(false);
+}
+
+void DynamicsWorld::predictUnconstraintMotion(btScalar timeStep) {
+    if (!skip_resting_prediction) return btDiscreteDynamicsWorld::predictUnconstraintMotion(timeStep);
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); i++) {
+        btRigidBody* body = m_nonStaticRigidBodies[i];
+        if (body->isStaticOrKinematicObject()) continue;
+        if (body->getActivationState() == ISLAND_SLEEPING && body->getLinearVelocity().isZero() &&
+            body->getAngularVelocity().isZero())
+            continue;
+        body->applyDamping(timeStep);
+        body->predictIntegratedTransform(timeStep, body->getInterpolationWorldTransform());
+    }
 }
 
 void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
