@@ -1,6 +1,6 @@
 set datafile separator ','
 set terminal pngcairo size 1400,900 font 'Sans,11'
-set output '/tmp/scale-run/cluster-scale/cluster-scale.png'
+set output 'docs/results/cluster-scale/cluster-scale.png'
 set multiplot layout 2,2 title 'A world at rest: lpss-cluster against lpss-sim on the same scene (targets dotted)'
 set datafile missing NaN
 set logscale x
@@ -11,34 +11,34 @@ set key top right font ',8'
 set grid
 set ylabel 'first frame / lpss-sim load'
 set title 'Start: time to the first frame, over lpss-sim loading the scene'
-plot '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==2?$5:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$5:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'ms per frame'
 set title 'Running: mean (solid) and p99 (open)'
 set key top left maxrows 3 width -4
 set offsets 0, 0, graph 0.35, 0
-plot '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$6:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==2?$6:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==4?$6:NaN) with linespoints pt 9 lc 3 title '4 workers', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$7:NaN) with points pt 6 lc 1 title '1 worker p99', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==2?$7:NaN) with points pt 4 lc 2 title '2 workers p99', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==4?$7:NaN) with points pt 8 lc 3 title '4 workers p99', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$8:NaN) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$9:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$10:NaN) with lines dt 3 lc rgb 'black' title 'target 1.5 x sim + 1 ms'
+plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$6:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$6:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$6:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$7:NaN) with points pt 6 lc 1 title '1 worker p99', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$7:NaN) with points pt 4 lc 2 title '2 workers p99', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$7:NaN) with points pt 8 lc 3 title '4 workers p99', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$8:NaN) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$9:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$10:NaN) with lines dt 3 lc rgb 'black' title 'target 1.5 x sim + 1 ms'
 set key default
 set key top right font ',8'
 set offsets 0, 0, 0, 0
 set ylabel 'all processes / lpss-sim'
 set title 'Memory: resident, all processes together, over lpss-sim'
-plot '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==2?$13:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$13:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'kB per frame'
 set title 'Bytes the busiest worker receives per frame'
-plot '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==2?$16/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '/tmp/scale-run/cluster-scale/cluster-scale.csv' using 1:($2==4?$16/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
+plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$16/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$16/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
 unset multiplot
