@@ -24,6 +24,9 @@ namespace {
 
 /// A rebalance is made only if it brings the heaviest worker's load down to this share of what it is.
 constexpr double kRebalanceGain = 0.85;
+/// Sector samples waiting to be taken past which the coordinator takes them while it waits for marks: an
+/// eighth of what its reader keeps per writer (kSectorFrameReading).
+constexpr std::uint64_t kSampleBacklog = 1024;
 /// How long the coordinator holds back its own work after a frame start for the standby's acknowledgement.
 constexpr std::chrono::microseconds kAcknowledgementPatience{5000};
 
@@ -639,8 +642,9 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
         // checked, copied) put them between the last mark and the next frame start (from a worker writing
         // its mark to the coordinator holding every mark: 0.74-0.84 ms at the median, 0.37-0.43 ms without,
         // 100,000 resting bodies and 1,000 balls on one worker). They are taken once the next frame has
-        // started, while the workers step.
-        pump(false);
+        // started, while the workers step; here only when many wait, so that a burst (a rebalance sends
+        // sectors whole) never outgrows what the reader keeps (kSectorFrameReading) before it is taken.
+        pump(sectors_in->unread() > kSampleBacklog);
         if (fenced) return false;
         if (standby != 0 && standby_lost) drop_standby();
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
