@@ -52,6 +52,10 @@ struct BorderEntry {
         btDbvtNode* node = nullptr;
     };
     std::vector<Leaf> leaves;
+    /// Where the body is listed among its sector's partnered originals (Sector::partnered): the
+    /// sector and the place. None while it has no partners; stale for a moment after it changes sector.
+    SectorId listed_in;
+    std::uint32_t listed_at = 0;
 };
 
 /// Hot fields first: the stages walk these records every frame.

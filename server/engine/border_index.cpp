@@ -82,13 +82,16 @@ const Aabb& BorderIndex::current_reach(std::uint32_t slot, std::uint64_t frame) 
 bool BorderIndex::reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame) {
     const Aabb& ra = current_reach(a, frame);
     const Aabb& rb = current_reach(b, frame);
+    // Partners have fat boxes, and once this frame's updates are done a fat box's frame is its body's
+    // sector (a body that changed sector was updated): the keys are there without a sector lookup.
     return ra.overlaps(
-        rb.translated(grid_.centre_offset(sector_of(bodies_[a]).key, sector_of(bodies_[b]).key)));
+        rb.translated(grid_.centre_offset(bodies_[a].border.fat_frame, bodies_[b].border.fat_frame)));
 }
 
 void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     BodyRecord& rec = bodies_[slot];
     if (!rec.alive || rec.plane) return;
+    relist(slot);  // it may have changed sector, or its sector been made anew, since it was listed
     const Aabb& tight = current_reach(slot, frame);
     Sector& sector = sector_of(rec);
     BorderEntry& entry = rec.border;
@@ -172,6 +175,7 @@ void BorderIndex::refresh_pairs(std::uint32_t slot) {
         auto it = std::find(back.begin(), back.end(), slot);
         *it = back.back();
         back.pop_back();
+        relist(other);
         entry.partners[n] = entry.partners.back();
         entry.partners.pop_back();
     }
@@ -203,7 +207,9 @@ void BorderIndex::refresh_pairs(std::uint32_t slot) {
         if (!fat_overlap(entry, partner.border)) continue;
         entry.partners.push_back(other);
         partner.border.partners.push_back(slot);
+        relist(other);
     }
+    relist(slot);
 }
 
 void BorderIndex::drop_pairs(std::uint32_t slot) {
@@ -211,8 +217,33 @@ void BorderIndex::drop_pairs(std::uint32_t slot) {
     for (std::uint32_t other : entry.partners) {
         std::vector<std::uint32_t>& back = bodies_[other].border.partners;
         back.erase(std::find(back.begin(), back.end(), slot));
+        relist(other);
     }
     entry.partners.clear();
+    relist(slot);
+}
+
+void BorderIndex::relist(std::uint32_t slot) {
+    BodyRecord& rec = bodies_[slot];
+    BorderEntry& entry = rec.border;
+    const bool wanted = rec.alive && !entry.partners.empty();
+    if (entry.listed_in.valid() && (!wanted || entry.listed_in != rec.sector)) {
+        // A sector destroyed since has taken its list with it.
+        if (Sector* was = sectors_.get(entry.listed_in)) {
+            std::vector<std::uint32_t>& list = was->partnered;
+            const std::uint32_t last = list.back();
+            list[entry.listed_at] = last;
+            bodies_[last].border.listed_at = entry.listed_at;
+            list.pop_back();
+        }
+        entry.listed_in = SectorId{};
+    }
+    if (wanted && !entry.listed_in.valid()) {
+        Sector& sector = sector_of(rec);
+        entry.listed_in = rec.sector;
+        entry.listed_at = static_cast<std::uint32_t>(sector.partnered.size());
+        sector.partnered.push_back(slot);
+    }
 }
 
 }  // namespace lpss::engine

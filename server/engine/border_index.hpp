@@ -31,8 +31,8 @@ namespace lpss::engine {
 
 class BorderIndex {
 public:
-    /// `bodies` and `sectors` are the world's, which outlive the index. Serial only: never called from
-    /// the threads that step sectors.
+    /// `bodies` and `sectors` are the world's, which outlive the index. Serial only, but for
+    /// prepare_reach: never called from the threads that step sectors.
     BorderIndex(const WorldSettings& settings, std::vector<BodyRecord>& bodies, SectorTable& sectors);
     BorderIndex(const BorderIndex&) = delete;
     BorderIndex& operator=(const BorderIndex&) = delete;
@@ -41,12 +41,21 @@ public:
     /// tight reach has left the old one or the body changed sector. Partners are found only among bodies
     /// already placed, so bodies are updated in a fixed order (the candidates' order) for reproducibility.
     void update(std::uint32_t slot, std::uint64_t frame);
-    /// Whether two bodies of different sectors may touch in `frame`: their tight reaches meet.
+    /// Computes a body's tight reach for `frame` ahead of update, from the thread that has just stepped
+    /// its sector (where the body is in cache, and in parallel: Box2D checks its fat boxes in the
+    /// solver's threads for the same reason). Touches only this body's entry. Whatever changes the body
+    /// before that frame's update must call forget_reach.
+    void prepare_reach(std::uint32_t slot, std::uint64_t frame) { current_reach(slot, frame); }
+    /// Drops a reach computed ahead: the body was moved, pushed or changed sector since.
+    void forget_reach(std::uint32_t slot) { bodies_[slot].border.reach_frame = 0; }
+    /// Whether two partners may touch in `frame`: their tight reaches meet. After this frame's updates.
     bool reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame);
     /// The bodies of other sectors that may touch this one (its fat box overlaps theirs).
     const std::vector<std::uint32_t>& partners(std::uint32_t slot) const {
         return bodies_[slot].border.partners;
     }
+    /// The originals of a sector that have partners, as of the last update of each of them.
+    const std::vector<std::uint32_t>& partnered(const Sector& sector) const { return sector.partnered; }
     /// Takes a body out: its leaves, and its pairs on both sides. Before its slot is reused.
     void remove(std::uint32_t slot);
     /// Bodies whose fat box enters another cell.
@@ -64,6 +73,9 @@ private:
     void remove_leaves(std::uint32_t slot);
     void refresh_pairs(std::uint32_t slot);
     void drop_pairs(std::uint32_t slot);
+    /// Lists a body among its sector's partnered originals, or takes it off, as its partners and its
+    /// sector now are.
+    void relist(std::uint32_t slot);
     bool fat_overlap(const BorderEntry& a, const BorderEntry& b) const;
     Sector& sector_of(const BodyRecord& record) const { return sectors_.at(record.sector); }
 

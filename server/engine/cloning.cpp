@@ -62,14 +62,20 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
 
     // ...and those that receive a clone of an awake body: the sectors of its dynamic partners. Awake
     // ghosts (moved by set_state this frame) count too: their copies may push this process's bodies.
-    auto extend_from = [&](std::uint32_t slot) {
+    // Every dynamic body of a stepped sector needs, there, a clone of each partner its reach meets; for
+    // the awake sectors that is found in the same pass over their pairs (`host`: the sector the body is
+    // stepped in, none for a ghost).
+    auto visit_pairs = [&](std::uint32_t slot, SectorId host) {
         const BodyRecord& rec = record(slot);
-        const std::vector<std::uint32_t>& partners = border.partners(slot);
-        if (partners.empty() || !rec.dynamic || !rec.rb->isActive()) return;
-        for (std::uint32_t other : partners) {
-            Sector& target = sector_of(record(other));
-            if (record(other).dynamic && !target.stepping && !target.remote &&
-                border.reaches_meet(slot, other, frame)) {
+        if (!rec.dynamic) return;
+        const bool pushes = rec.rb->isActive();
+        for (std::uint32_t other : border.partners(slot)) {
+            if (!border.reaches_meet(slot, other, frame)) continue;
+            if (host.valid()) requirements.emplace_back(host, other);
+            const BodyRecord& partner = record(other);
+            if (!pushes || !partner.dynamic) continue;
+            Sector& target = sector_of(partner);
+            if (!target.stepping && !target.remote) {
                 target.stepping = true;
                 step_set.push_back(target.id);
             }
@@ -77,20 +83,23 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     };
     const std::size_t awake_sectors = step_set.size();
     for (std::size_t n = 0; n < awake_sectors; ++n) {
-        for (std::uint32_t slot : sectors.at(step_set[n]).originals)
-            extend_from(slot);
+        const SectorId id = step_set[n];
+        for (std::uint32_t slot : border.partnered(sectors.at(id)))
+            visit_pairs(slot, id);
     }
     for (std::uint32_t slot : candidates) {
-        if (record(slot).alive && !record(slot).plane && sector_of(record(slot)).remote) extend_from(slot);
+        const BodyRecord& rec = record(slot);
+        if (rec.alive && !rec.plane && sector_of(rec).remote) visit_pairs(slot, SectorId{});
     }
-
-    // Every dynamic body of a stepped sector needs its partners there.
-    for (SectorId target : step_set) {
-        for (std::uint32_t slot : sectors.at(target).originals) {
-            const std::vector<std::uint32_t>& partners = border.partners(slot);
-            if (partners.empty() || !record(slot).dynamic) continue;
-            for (std::uint32_t other : partners) {
-                if (border.reaches_meet(slot, other, frame)) requirements.emplace_back(target, other);
+    // In key order: the partnered lists' order depends on history, and merge_contacts follows this one.
+    std::sort(step_set.begin() + static_cast<std::ptrdiff_t>(awake_sectors), step_set.end(),
+              [&](SectorId a, SectorId b) { return sectors.at(a).key < sectors.at(b).key; });
+    for (std::size_t n = awake_sectors; n < step_set.size(); ++n) {
+        const SectorId id = step_set[n];
+        for (std::uint32_t slot : border.partnered(sectors.at(id))) {
+            if (!record(slot).dynamic) continue;
+            for (std::uint32_t other : border.partners(slot)) {
+                if (border.reaches_meet(slot, other, frame)) requirements.emplace_back(id, other);
             }
         }
     }

@@ -98,8 +98,11 @@ public:
     btDbvtBroadphase broadphase;
     DynamicsWorld world;
 
-    std::vector<std::uint32_t> originals;       ///< slots of the bodies this sector owns
-    std::vector<std::uint32_t> hosted;          ///< slots of bodies with a clone or plane instance here
+    std::vector<std::uint32_t> originals;  ///< slots of the bodies this sector owns
+    std::vector<std::uint32_t> hosted;     ///< slots of bodies with a clone or plane instance here
+    /// Slots of the originals with partners (kept by the BorderIndex): the only ones the cloning stage
+    /// looks at, so that a stepped sector's bodies far from its borders cost nothing there.
+    std::vector<std::uint32_t> partnered;
     std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
     std::vector<BodyId> moved;  ///< originals active during the step, logged serially afterwards

@@ -81,10 +81,13 @@ void World::Impl::step_sectors() {
         note_active();
         for (int n = 0; n < substeps; ++n) {
             sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
-            // Every dynamic original, not only the awake ones: a body that fell asleep during this step
-            // still moved in it.
+            // The bodies active before the step (noted above; one that fell asleep in it still moved) and
+            // those a contact has woken since. A body asleep throughout has not moved: Bullet integrates
+            // active bodies only, and a sector of resting boxes around one rolling ball is stepped whole.
             for (std::uint32_t slot : sector.originals) {
-                if (bodies[slot].dynamic) track_position(bodies[slot], substep);
+                BodyRecord& rec = bodies[slot];
+                if (rec.dynamic && (rec.moved_frame == frame || rec.rb->isActive()))
+                    track_position(rec, substep);
             }
         }
 
@@ -141,6 +144,10 @@ void World::Impl::step_sectors() {
                   });
         // Last: moving the anchor leaves the manifolds' world points stale until the next step.
         follow_bodies(sector);
+        // The bodies found active are the next frame's candidates: their reach is wanted then.
+        for (std::uint32_t slot : sector.originals) {
+            if (bodies[slot].moved_frame == frame) border.prepare_reach(slot, frame + 1);
+        }
     });
 }
 

@@ -329,6 +329,7 @@ Status World::remove_body(BodyId id) {
 
 void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     BodyRecord& rec = record(slot);
+    border.forget_reach(slot);
     Sector& dest = sector_for(to.sector, to.local);  // may create a sector: `from` is looked up after
     Sector& from = sector_of(rec);
     btTransform transform = rec.rb->getWorldTransform();
@@ -610,6 +611,7 @@ void World::Impl::step() {
     for (std::uint32_t slot : dirty) {
         BodyRecord& rec = record(slot);
         if (!rec.alive) continue;
+        border.forget_reach(slot);  // what the step computed ahead is stale after a command
         if (!rec.plane) changes.touched(sector_of(rec).key, rec.id);
         if (rec.visit_frame != frame) {
             rec.visit_frame = frame;
@@ -800,6 +802,16 @@ Status World::check_consistency() const {
         const double frame_motion = to_eigen(rb.getLinearVelocity()).norm() * w.settings.dt;
         const double reach = w.band + (rec.dynamic ? 4.0 * w.settings.sector_size + frame_motion : 0.0);
         if (rec.local.cwiseAbs().maxCoeff() > reach) return fail(rec, "lies far outside its sector");
+        // Listed among its sector's partnered originals while it has partners (in the sector it was in
+        // at its last update: a command may have moved it since).
+        const engine::BorderEntry& entry = rec.border;
+        if (entry.partners.empty() != !entry.listed_in.valid())
+            return fail(rec, entry.listed_in.valid() ? "is listed as partnered without partners"
+                                                     : "has partners but is not listed as partnered");
+        if (const Sector* listing = entry.listed_in.valid() ? w.sectors.get(entry.listed_in) : nullptr) {
+            if (entry.listed_at >= listing->partnered.size() || listing->partnered[entry.listed_at] != slot)
+                return fail(rec, "is not where its sector's partnered list says");
+        }
         for (std::uint32_t other : w.border.partners(slot)) {
             const BodyRecord& partner = w.bodies[other];
             if (!partner.alive || partner.plane) return fail(rec, "has a partner that is gone");
@@ -821,6 +833,11 @@ Status World::check_consistency() const {
             std::find(w.pending_destroy.begin(), w.pending_destroy.end(), sector.id) ==
                 w.pending_destroy.end())
             sectors_ok = Error{"a sector owns no body but is not queued for destruction"};
+        for (std::size_t n = 0; n < sector.partnered.size() && sectors_ok; ++n) {
+            const BodyRecord& rec = w.bodies[sector.partnered[n]];
+            if (!rec.alive || rec.border.listed_in != sector.id || rec.border.listed_at != n)
+                sectors_ok = Error{"a sector's partnered list names a body that is not listed there"};
+        }
     });
     if (!sectors_ok) return sectors_ok;
     if (seeing.size() != w.contacts.touching_pairs())
