@@ -57,6 +57,42 @@ void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
     btDiscreteDynamicsWorld::solveConstraints(info);
 }
 
+// The three parts below are btDiscreteDynamicsWorld::stepSimulation(dt, 0) and the
+// internalSingleStepSimulation it makes (Bullet 3.24), in order, cut around solveConstraints.
+void DynamicsWorld::begin_step(btScalar dt) {
+    m_localTime = m_latencyMotionStateInterpolation ? 0 : dt;
+    m_fixedTimeStep = 0;
+    saveKinematicState(dt);
+    applyGravity();
+    if (m_internalPreTickCallback != nullptr) m_internalPreTickCallback(this, dt);
+    predictUnconstraintMotion(dt);
+    btDispatcherInfo& dispatch = getDispatchInfo();
+    dispatch.m_timeStep = dt;
+    dispatch.m_stepCount = 0;
+    dispatch.m_debugDraw = getDebugDrawer();
+    createPredictiveContacts(dt);
+    performDiscreteCollisionDetection();
+    calculateSimulationIslands();
+    getSolverInfo().m_timeStep = dt;
+}
+
+void DynamicsWorld::collect_islands(btSimulationIslandManager::IslandCallback& batch) {
+    btContactSolverInfo& info = getSolverInfo();
+    if (friction_rule != CombineRule::product || restitution_rule != CombineRule::product)
+        combine_materials(*getDispatcher(), friction_rule, restitution_rule);
+    if (keep_bounce_energy) bouncing_contacts_keep_their_energy(*getDispatcher(), info);
+    m_islandManager->buildAndProcessIslands(getDispatcher(), this, &batch);
+}
+
+void DynamicsWorld::end_step(btScalar dt) {
+    integrateTransforms(dt);
+    updateActions(dt);
+    updateActivationState(dt);
+    if (m_internalTickCallback != nullptr) m_internalTickCallback(this, dt);
+    synchronizeMotionStates();
+    clearForces();
+}
+
 void combine_materials(btDispatcher& dispatcher, CombineRule friction, CombineRule restitution) {
     const int manifolds = dispatcher.getNumManifolds();
     for (int m = 0; m < manifolds; ++m) {

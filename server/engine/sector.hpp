@@ -4,6 +4,7 @@
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
@@ -33,6 +34,13 @@ public:
     using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
     ~DynamicsWorld() override { releasePredictiveContacts(); }
     void solveConstraints(btContactSolverInfo& info) override;
+    /// A step of dt as stepSimulation(dt, 0) takes it, cut where the solver runs so that several worlds
+    /// can share one solver call (island_batch.hpp): begin_step runs everything before the solver,
+    /// collect_islands gives the batch this world's awake islands (with the contact rules applied, as
+    /// solveConstraints does), end_step runs everything after. Bullet's profiler is left out.
+    void begin_step(btScalar dt);
+    void collect_islands(btSimulationIslandManager::IslandCallback& batch);
+    void end_step(btScalar dt);
     /// Bullet's, but for bodies asleep with both velocities exactly zero, which Bullet damps (zero stays
     /// zero) and predicts (to where they are) every substep, asleep or not: in a sector of resting boxes
     /// with one ball rolling through, that was every box, every substep. What the prediction writes (the

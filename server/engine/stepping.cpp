@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "bullet_convert.hpp"
+#include "island_batch.hpp"
 #include "world_impl.hpp"
 
 namespace lpss {
@@ -61,93 +62,129 @@ void World::Impl::track_position(BodyRecord& rec, double dt) const {
     rec.rb->setInterpolationWorldTransform(transform);
 }
 
+void World::Impl::note_active(Sector& sector) {
+    // Bodies active before the step or after it may have moved: the change log's (a body woken by a
+    // contact is active after; one that fell asleep, before).
+    for (std::uint32_t slot : sector.originals) {
+        BodyRecord& rec = bodies[slot];
+        if (rec.dynamic && rec.moved_frame != frame && rec.rb->isActive()) {
+            rec.moved_frame = frame;
+            sector.moved.push_back(rec.id);
+        }
+    }
+}
+
+void World::Impl::track_positions(Sector& sector, double dt) {
+    // The bodies active before the step (noted before it; one that fell asleep in it still moved) and
+    // those a contact has woken since. A body asleep throughout has not moved: Bullet integrates active
+    // bodies only, and a sector of resting boxes around one rolling ball is stepped whole.
+    for (std::uint32_t slot : sector.originals) {
+        BodyRecord& rec = bodies[slot];
+        if (rec.dynamic && (rec.moved_frame == frame || rec.rb->isActive())) track_position(rec, dt);
+    }
+}
+
+void World::Impl::finish_step(Sector& sector) {
+    note_active(sector);
+    bool awake = false;
+    for (std::uint32_t slot : sector.originals) {
+        const BodyRecord& rec = bodies[slot];
+        if (rec.dynamic && rec.rb->isActive()) {
+            awake = true;
+            break;
+        }
+    }
+    sector.awake = awake;
+
+    // Touching pairs, named by the bodies' ids. Two clones touching say nothing about their
+    // originals (who meet, if at all, in their own sectors), so they are skipped.
+    sector.fresh_contacts.clear();
+    const int manifolds = sector.dispatcher.getNumManifolds();
+    for (int m = 0; m < manifolds; ++m) {
+        const btPersistentManifold* manifold = sector.dispatcher.getManifoldByIndexInternal(m);
+        const int points = manifold->getNumContacts();
+        if (points == 0) continue;
+        const btCollisionObject* o0 = manifold->getBody0();
+        const btCollisionObject* o1 = manifold->getBody1();
+        if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone) continue;
+        btScalar nearest = std::numeric_limits<btScalar>::max();
+        btScalar impulse = 0;
+        btVector3 point(0, 0, 0);
+        for (int p = 0; p < points; ++p) {
+            const btManifoldPoint& contact = manifold->getContactPoint(p);
+            nearest = std::min(nearest, contact.getDistance());
+            impulse += contact.getAppliedImpulse();
+            point += contact.getPositionWorldOnB();
+        }
+        if (nearest > kTouchDistance) continue;
+        ContactRecord record;
+        record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].id;
+        record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].id;
+        // Bullet's normal points from body 1 to body 0, ours from b to a.
+        btVector3 normal = manifold->getContactPoint(0).m_normalWorldOnB;
+        if (record.a > record.b) {
+            std::swap(record.a, record.b);
+            normal = -normal;
+        }
+        point /= static_cast<btScalar>(points);
+        record.point = sector.from_physics(point);
+        record.normal = Eigen::Vector3f(float(normal.x()), float(normal.y()), float(normal.z()));
+        record.impulse = static_cast<float>(impulse);
+        sector.fresh_contacts.push_back(record);
+    }
+    std::sort(
+        sector.fresh_contacts.begin(), sector.fresh_contacts.end(),
+        [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    // Last: moving the anchor leaves the manifolds' world points stale until the next step.
+    follow_bodies(sector);
+    // The bodies found active are the next frame's candidates: their reach is wanted then.
+    for (std::uint32_t slot : sector.originals) {
+        if (bodies[slot].moved_frame == frame) border.prepare_reach(slot, frame + 1);
+    }
+}
+
 void World::Impl::step_sectors() {
     const int substeps = settings.substeps_per_frame();
     const double substep = settings.dt / substeps;
     const btScalar dt = static_cast<btScalar>(substep);
-    pool.run(step_set.size(), [&](std::size_t index, int worker) {
-        Sector& sector = sectors.at(step_set[index]);  // the table is only read while threads run
-        // Bodies active before the step or after it may have moved: the change log's (a body woken by a
-        // contact is active after; one that fell asleep, before).
-        auto note_active = [&] {
-            for (std::uint32_t slot : sector.originals) {
-                BodyRecord& rec = bodies[slot];
-                if (rec.dynamic && rec.moved_frame != frame && rec.rb->isActive()) {
-                    rec.moved_frame = frame;
-                    sector.moved.push_back(rec.id);
-                }
-            }
-        };
-        note_active();
+    // Consecutive small sectors go in groups that share their solver calls (island_batch.hpp); naive
+    // sectors, which stand for plain Bullet, each go alone.
+    step_groups.clear();
+    std::size_t group_objects = 0;
+    for (std::size_t n = 0; n < step_set.size(); ++n) {
+        const Sector& sector = sectors.at(step_set[n]);
+        const auto objects = static_cast<std::size_t>(sector.world.getNumCollisionObjects());
+        const bool small = !sector.own_solver && objects <= kSmallSectorObjects;
+        if (small && !step_groups.empty() && step_groups.back().small &&
+            group_objects + objects <= kGroupObjects) {
+            ++step_groups.back().end;
+            group_objects += objects;
+        } else {
+            step_groups.push_back({n, n + 1, small});
+            group_objects = objects;
+        }
+    }
+    pool.run(step_groups.size(), [&](std::size_t index, int worker) {
+        const StepGroup group = step_groups[index];
+        btSequentialImpulseConstraintSolver& solver = *solvers[static_cast<std::size_t>(worker)];
+        // The table is only read while threads run; each sector is touched by one thread only.
+        std::vector<Sector*> members;
+        members.reserve(group.end - group.begin);
+        for (std::size_t n = group.begin; n < group.end; ++n)
+            members.push_back(&sectors.at(step_set[n]));
+        for (Sector* sector : members)
+            note_active(*sector);
         for (int n = 0; n < substeps; ++n) {
-            sector.step(solvers[static_cast<std::size_t>(worker)].get(), dt);
-            // The bodies active before the step (noted above; one that fell asleep in it still moved) and
-            // those a contact has woken since. A body asleep throughout has not moved: Bullet integrates
-            // active bodies only, and a sector of resting boxes around one rolling ball is stepped whole.
-            for (std::uint32_t slot : sector.originals) {
-                BodyRecord& rec = bodies[slot];
-                if (rec.dynamic && (rec.moved_frame == frame || rec.rb->isActive()))
-                    track_position(rec, substep);
+            if (members.size() == 1) {
+                members.front()->step(&solver, dt);
+            } else {
+                engine::step_together(members, solver, dt);
             }
+            for (Sector* sector : members)
+                track_positions(*sector, substep);
         }
-
-        note_active();
-        bool awake = false;
-        for (std::uint32_t slot : sector.originals) {
-            const BodyRecord& rec = bodies[slot];
-            if (rec.dynamic && rec.rb->isActive()) {
-                awake = true;
-                break;
-            }
-        }
-        sector.awake = awake;
-
-        // Touching pairs, named by the bodies' ids. Two clones touching say nothing about their
-        // originals (who meet, if at all, in their own sectors), so they are skipped.
-        sector.fresh_contacts.clear();
-        const int manifolds = sector.dispatcher.getNumManifolds();
-        for (int m = 0; m < manifolds; ++m) {
-            const btPersistentManifold* manifold = sector.dispatcher.getManifoldByIndexInternal(m);
-            const int points = manifold->getNumContacts();
-            if (points == 0) continue;
-            const btCollisionObject* o0 = manifold->getBody0();
-            const btCollisionObject* o1 = manifold->getBody1();
-            if (role_of(o0) == Role::Clone && role_of(o1) == Role::Clone) continue;
-            btScalar nearest = std::numeric_limits<btScalar>::max();
-            btScalar impulse = 0;
-            btVector3 point(0, 0, 0);
-            for (int p = 0; p < points; ++p) {
-                const btManifoldPoint& contact = manifold->getContactPoint(p);
-                nearest = std::min(nearest, contact.getDistance());
-                impulse += contact.getAppliedImpulse();
-                point += contact.getPositionWorldOnB();
-            }
-            if (nearest > kTouchDistance) continue;
-            ContactRecord record;
-            record.a = bodies[static_cast<std::size_t>(o0->getUserIndex())].id;
-            record.b = bodies[static_cast<std::size_t>(o1->getUserIndex())].id;
-            // Bullet's normal points from body 1 to body 0, ours from b to a.
-            btVector3 normal = manifold->getContactPoint(0).m_normalWorldOnB;
-            if (record.a > record.b) {
-                std::swap(record.a, record.b);
-                normal = -normal;
-            }
-            point /= static_cast<btScalar>(points);
-            record.point = sector.from_physics(point);
-            record.normal = Eigen::Vector3f(float(normal.x()), float(normal.y()), float(normal.z()));
-            record.impulse = static_cast<float>(impulse);
-            sector.fresh_contacts.push_back(record);
-        }
-        std::sort(sector.fresh_contacts.begin(), sector.fresh_contacts.end(),
-                  [](const ContactRecord& x, const ContactRecord& y) {
-                      return x.a != y.a ? x.a < y.a : x.b < y.b;
-                  });
-        // Last: moving the anchor leaves the manifolds' world points stale until the next step.
-        follow_bodies(sector);
-        // The bodies found active are the next frame's candidates: their reach is wanted then.
-        for (std::uint32_t slot : sector.originals) {
-            if (bodies[slot].moved_frame == frame) border.prepare_reach(slot, frame + 1);
-        }
+        for (Sector* sector : members)
+            finish_step(*sector);
     });
 }
 

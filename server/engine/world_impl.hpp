@@ -31,6 +31,10 @@ struct World::Impl {
     void sectorize(const std::vector<std::uint32_t>& candidates);
     void clone_stage(const std::vector<std::uint32_t>& candidates);
     void step_sectors();
+    void note_active(engine::Sector& sector);
+    void track_positions(engine::Sector& sector, double dt);
+    /// After a sector's step: what is awake and touching, its anchor, and next frame's reaches.
+    void finish_step(engine::Sector& sector);
     void track_position(engine::BodyRecord& record, double dt) const;
     void merge_contacts();
 
@@ -100,6 +104,16 @@ struct World::Impl {
     std::vector<engine::SectorId> awake_list;       ///< sectors that may hold awake originals
     std::vector<engine::SectorId> step_set;         ///< sectors stepped this (or the last) frame
     std::vector<engine::SectorId> pending_destroy;  ///< emptied by sectorization; destroyed if still empty
+    /// A run of step_set stepped by one thread: one sector, or consecutive small ones stepped together.
+    struct StepGroup {
+        std::size_t begin = 0, end = 0;
+        bool small = false;
+    };
+    /// A sector of at most this many Bullet objects is stepped in a group with its small neighbours in
+    /// step_set, up to kGroupObjects objects in all: Bullet's own batch of islands is 128 contacts.
+    static constexpr std::size_t kSmallSectorObjects = 16;
+    static constexpr std::size_t kGroupObjects = 128;
+    std::vector<StepGroup> step_groups;
 
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;

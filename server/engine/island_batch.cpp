@@ -1,0 +1,36 @@
+// Small sector worlds stepped together (island_batch.hpp says why that gives what stepping each does).
+#include "island_batch.hpp"
+
+#include "sector.hpp"
+
+namespace lpss::engine {
+
+void IslandBatch::processIsland(btCollisionObject** bodies, int body_count, btPersistentManifold** manifolds,
+                                int manifold_count, int /*island*/) {
+    for (int n = 0; n < body_count; ++n)
+        bodies_.push_back(bodies[n]);
+    for (int n = 0; n < manifold_count; ++n)
+        manifolds_.push_back(manifolds[n]);
+    if (manifolds_.size() > info_.m_minimumSolverBatchSize) solve();
+}
+
+void IslandBatch::solve() {
+    if (bodies_.size() == 0) return;
+    solver_.solveGroup(&bodies_[0], bodies_.size(), manifolds_.size() != 0 ? &manifolds_[0] : nullptr,
+                       manifolds_.size(), nullptr, 0, info_, nullptr, nullptr);
+    bodies_.resize(0);
+    manifolds_.resize(0);
+}
+
+void step_together(const std::vector<Sector*>& sectors, btConstraintSolver& solver, btScalar dt) {
+    for (Sector* sector : sectors)
+        sector->world.begin_step(dt);
+    IslandBatch batch(solver, sectors.front()->world.getSolverInfo());
+    for (Sector* sector : sectors)
+        sector->world.collect_islands(batch);
+    batch.solve();
+    for (Sector* sector : sectors)
+        sector->world.end_step(dt);
+}
+
+}  // namespace lpss::engine
