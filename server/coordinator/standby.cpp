@@ -198,6 +198,15 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     answer_over_rate();
     last_request = standing_commands.newest();
     publish_assignment();
+    // The coordinator's last frame start may not have reached every worker: a writer killed while it
+    // delivers a sample leaves some readers without it, and nobody sends it again (seen: a worker restarted
+    // earlier never had frame 231's start while the others stepped it, and was taken as gone 5 s later).
+    // It is written again under this term: a worker that had it has started that frame and looks no more
+    // at its start; one still waiting (for it, or for the acknowledgement of the standby it named) starts.
+    last_go.coordinator(options.id);
+    last_go.term(term);
+    last_go.standby(standby);
+    go_out->write(last_go);
     status("running", 0.0, statics.size());
     spdlog::warn(
         "coordinator {}: the coordinator's lease ran out after it started frame {}: taking over under term "
