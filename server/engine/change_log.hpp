@@ -17,6 +17,7 @@ public:
     struct Entry {
         std::vector<BodyId> touched;  ///< may have moved or arrived (may repeat)
         std::vector<BodyId> left;     ///< moved out or removed (may repeat, or have come back)
+        bool empty() const { return touched.empty() && left.empty(); }
     };
 
     void touched(const SectorKey& sector, BodyId id) { gathering_[sector].touched.push_back(id); }
@@ -29,7 +30,7 @@ public:
     /// What changed in one of them, or nothing.
     const Entry* find(const SectorKey& sector) const {
         auto it = last_.find(sector);
-        return it == last_.end() ? nullptr : &it->second;
+        return it == last_.end() || it->second.empty() ? nullptr : &it->second;
     }
 
 private:
