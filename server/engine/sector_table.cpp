@@ -5,14 +5,9 @@
 
 namespace lpss::engine {
 
-Sector& SectorTable::at(SectorId id) const {
-    Sector* sector = get(id);
-    if (sector == nullptr) {
-        std::fprintf(stderr, "lpss engine: stale sector id (slot %u, generation %u)\n", id.index,
-                     id.generation);
-        std::abort();
-    }
-    return *sector;
+void SectorTable::stale(SectorId id) {
+    std::fprintf(stderr, "lpss engine: stale sector id (slot %u, generation %u)\n", id.index, id.generation);
+    std::abort();
 }
 
 Sector& SectorTable::insert(std::unique_ptr<Sector> sector) {

@@ -29,7 +29,11 @@ public:
     }
     /// The sector an id names; the id must be alive (the engine's invariants say it is). A stale id is a
     /// bug in the engine: it stops the process rather than read freed memory.
-    Sector& at(SectorId id) const;
+    Sector& at(SectorId id) const {
+        Sector* sector = get(id);
+        if (sector == nullptr) stale(id);
+        return *sector;
+    }
 
     /// Takes a new sector (its key not in the table yet) and gives it its id.
     Sector& insert(std::unique_ptr<Sector> sector);
@@ -47,6 +51,9 @@ public:
     }
 
 private:
+    /// Inline, as the stages look sectors up for every body they touch; the failure is out of line.
+    [[noreturn]] static void stale(SectorId id);
+
     struct Slot {
         std::unique_ptr<Sector> sector;
         std::uint32_t generation = 0;  ///< odd while a sector lives in the slot, even while it is free
