@@ -22,15 +22,16 @@ void IslandBatch::solve() {
     manifolds_.resize(0);
 }
 
-void step_together(const std::vector<Sector*>& sectors, btConstraintSolver& solver, btScalar dt) {
-    for (Sector* sector : sectors)
-        sector->world.begin_step(dt);
-    IslandBatch batch(solver, sectors.front()->world.getSolverInfo());
-    for (Sector* sector : sectors)
-        sector->world.collect_islands(batch);
+void step_together(Sector* const* first, std::size_t count, btConstraintSolver& solver, btScalar dt) {
+    Sector* const* last = first + count;
+    for (Sector* const* sector = first; sector != last; ++sector)
+        (*sector)->world.begin_step(dt);
+    IslandBatch batch(solver, (*first)->world.getSolverInfo());
+    for (Sector* const* sector = first; sector != last; ++sector)
+        (*sector)->world.collect_islands(batch);
     batch.solve();
-    for (Sector* sector : sectors)
-        sector->world.end_step(dt);
+    for (Sector* const* sector = first; sector != last; ++sector)
+        (*sector)->world.end_step(dt);
 }
 
 }  // namespace lpss::engine

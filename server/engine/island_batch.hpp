@@ -14,7 +14,7 @@
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 
-#include <vector>
+#include <cstddef>
 
 namespace lpss::engine {
 
@@ -39,8 +39,9 @@ private:
     btAlignedObjectArray<btPersistentManifold*> manifolds_;
 };
 
-/// One step of dt for every sector given, as Sector::step takes it for each, with one solver call for
-/// their islands together. The sectors share the world's collision configuration and settings.
-void step_together(const std::vector<Sector*>& sectors, btConstraintSolver& solver, btScalar dt);
+/// One step of dt for the `count` sectors from `first` on, as Sector::step takes it for each, with one
+/// solver call for their islands together. The sectors share the world's collision configuration and
+/// settings.
+void step_together(Sector* const* first, std::size_t count, btConstraintSolver& solver, btScalar dt);
 
 }  // namespace lpss::engine

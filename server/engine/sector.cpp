@@ -50,10 +50,14 @@ void DynamicsWorld::predictUnconstraintMotion(btScalar timeStep) {
     }
 }
 
-void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
+void DynamicsWorld::apply_contact_rules(const btContactSolverInfo& info) {
     if (friction_rule != CombineRule::product || restitution_rule != CombineRule::product)
         combine_materials(*getDispatcher(), friction_rule, restitution_rule);
     if (keep_bounce_energy) bouncing_contacts_keep_their_energy(*getDispatcher(), info);
+}
+
+void DynamicsWorld::solveConstraints(btContactSolverInfo& info) {
+    apply_contact_rules(info);
     btDiscreteDynamicsWorld::solveConstraints(info);
 }
 
@@ -77,10 +81,7 @@ void DynamicsWorld::begin_step(btScalar dt) {
 }
 
 void DynamicsWorld::collect_islands(btSimulationIslandManager::IslandCallback& batch) {
-    btContactSolverInfo& info = getSolverInfo();
-    if (friction_rule != CombineRule::product || restitution_rule != CombineRule::product)
-        combine_materials(*getDispatcher(), friction_rule, restitution_rule);
-    if (keep_bounce_energy) bouncing_contacts_keep_their_energy(*getDispatcher(), info);
+    apply_contact_rules(getSolverInfo());
     m_islandManager->buildAndProcessIslands(getDispatcher(), this, &batch);
 }
 

@@ -53,6 +53,10 @@ public:
     CombineRule restitution_rule = CombineRule::product;
     bool keep_bounce_energy = true;        ///< false: Bullet's own push (EngineOptions::bullet_bounces)
     bool skip_resting_prediction = false;  ///< see predictUnconstraintMotion
+
+private:
+    /// The scene's contact rules, applied to this step's contacts before they are solved.
+    void apply_contact_rules(const btContactSolverInfo& info);
 };
 
 /// Sets every contact's friction and restitution by the world's rules: Bullet combines them by product

@@ -150,9 +150,11 @@ void World::Impl::step_sectors() {
     // Consecutive small sectors go in groups that share their solver calls (island_batch.hpp); naive
     // sectors, which stand for plain Bullet, each go alone.
     step_groups.clear();
+    step_sectors_scratch.clear();
     std::size_t group_objects = 0;
     for (std::size_t n = 0; n < step_set.size(); ++n) {
-        const Sector& sector = sectors.at(step_set[n]);
+        Sector& sector = sectors.at(step_set[n]);
+        step_sectors_scratch.push_back(&sector);
         const auto objects = static_cast<std::size_t>(sector.world.getNumCollisionObjects());
         const bool small = !sector.own_solver && objects <= kSmallSectorObjects;
         if (small && !step_groups.empty() && step_groups.back().small &&
@@ -167,24 +169,22 @@ void World::Impl::step_sectors() {
     pool.run(step_groups.size(), [&](std::size_t index, int worker) {
         const StepGroup group = step_groups[index];
         btSequentialImpulseConstraintSolver& solver = *solvers[static_cast<std::size_t>(worker)];
-        // The table is only read while threads run; each sector is touched by one thread only.
-        std::vector<Sector*> members;
-        members.reserve(group.end - group.begin);
-        for (std::size_t n = group.begin; n < group.end; ++n)
-            members.push_back(&sectors.at(step_set[n]));
-        for (Sector* sector : members)
-            note_active(*sector);
+        // Each sector is touched by one thread only.
+        Sector* const* first = step_sectors_scratch.data() + group.begin;
+        Sector* const* last = step_sectors_scratch.data() + group.end;
+        for (Sector* const* sector = first; sector != last; ++sector)
+            note_active(**sector);
         for (int n = 0; n < substeps; ++n) {
-            if (members.size() == 1) {
-                members.front()->step(&solver, dt);
+            if (last - first == 1) {
+                (*first)->step(&solver, dt);
             } else {
-                engine::step_together(members, solver, dt);
+                engine::step_together(first, group.end - group.begin, solver, dt);
             }
-            for (Sector* sector : members)
-                track_positions(*sector, substep);
+            for (Sector* const* sector = first; sector != last; ++sector)
+                track_positions(**sector, substep);
         }
-        for (Sector* sector : members)
-            finish_step(*sector);
+        for (Sector* const* sector = first; sector != last; ++sector)
+            finish_step(**sector);
     });
 }
 

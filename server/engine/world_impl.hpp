@@ -114,6 +114,7 @@ struct World::Impl {
     static constexpr std::size_t kSmallSectorObjects = 16;
     static constexpr std::size_t kGroupObjects = 128;
     std::vector<StepGroup> step_groups;
+    std::vector<engine::Sector*> step_sectors_scratch;  ///< step_set's sectors, looked up before threads run
 
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;
