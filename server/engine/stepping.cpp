@@ -156,7 +156,8 @@ void World::Impl::step_sectors() {
         Sector& sector = sectors.at(step_set[n]);
         step_sectors_scratch.push_back(&sector);
         const auto objects = static_cast<std::size_t>(sector.world.getNumCollisionObjects());
-        const bool small = !sector.own_solver && objects <= kSmallSectorObjects;
+        const bool small =
+            options.group_small_sectors && !sector.own_solver && objects <= kSmallSectorObjects;
         if (small && !step_groups.empty() && step_groups.back().small &&
             group_objects + objects <= kGroupObjects) {
             ++step_groups.back().end;

@@ -663,6 +663,10 @@ void World::Impl::step() {
     stats.bodies = slots.size();
     stats.sectors = sectors.size();
     stats.stepped_sectors = step_set.size();
+    stats.grouped_sectors = 0;
+    for (const StepGroup& group : step_groups) {
+        if (group.end - group.begin > 1) stats.grouped_sectors += group.end - group.begin;
+    }
     stats.border_bodies = border.border_bodies();
     stats.clones = clone_count;
     stats.spare_clones = spare_count;
