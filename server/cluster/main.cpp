@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e9));
     app.add_option("--await-clients", await_clients,
                    "frame 1 waits until this many clients have matched every topic they read");
+    bool restart_workers = false;
+    app.add_flag("--restart-workers", restart_workers,
+                 "start a worker that dies again under its id, once the world runs (at most once every 10 s "
+                 "per worker); it joins the running world");
     bool no_standby = false;
     app.add_flag("--no-standby", no_standby,
                  "no standby coordinator (by default one follows the world and takes over if the coordinator "
@@ -250,6 +254,10 @@ int main(int argc, char** argv) {
     };
     int exit_code = 0;
     bool stopping = false;
+    // A worker that dies again at once (a scene that crashes it, say) is not started in a loop.
+    constexpr auto kRestartInterval = std::chrono::seconds(10);
+    std::vector<Clock::time_point> restarted_at(children.size(), Clock::time_point{});
+    int restarts = 0;
     while (true) {
         inbox.wait(std::chrono::milliseconds(100));
         marks->take_all([&](const lpss::wire::WorkerFrame& m, const lpss::dds::fdds::SampleInfo& info) {
@@ -301,6 +309,26 @@ int main(int argc, char** argv) {
         if (last_frame > 0 && !memory_seen) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
             memory_seen = true;
+        }
+        if (restart_workers && last_frame > 0 && !stop.load()) {
+            for (std::size_t n = 0; n < children.size(); ++n) {
+                ChildProcess& c = children[n];
+                const auto w = static_cast<std::uint32_t>(n + 1);
+                // (One that ends with 0 read the coordinator's stop: the run is ending.)
+                if (c.running() || c.exit_code().value_or(0) == 0) continue;
+                if (Clock::now() - restarted_at[n] < kRestartInterval) continue;
+                const int code = c.exit_code().value_or(1);
+                restarted_at[n] = Clock::now();
+                auto again = ChildProcess::start(worker_program, worker_args(w),
+                                                 log_dir + fmt::format("/worker-{}.{}.log", w, ++restarts));
+                if (!again) {
+                    fmt::print(stderr, "lpss-cluster: cannot start worker {} again\n", w);
+                    continue;
+                }
+                c = std::move(*again);
+                fmt::print("lpss-cluster: worker {} ended (exit {}); started again under its id\n", w, code);
+                std::fflush(stdout);
+            }
         }
         // (One that ends with 0 read the coordinator's stop, as the workers do: the run is ending.)
         if (standby && !taken_over && !standby_gone && !standby->running() &&

@@ -1,3 +1,4 @@
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -204,7 +205,20 @@ void Coordinator::State::pump(bool with_samples) {
             }
             return;
         }
-        last_heard[m.worker()] = Clock::now();
+        // An ask to join under the id of a live worker, from another writer: that worker started again, and
+        // its old self is dead or cut off. Not word from the old one, whose silence goes on.
+        const bool restarted_ask = [&] {
+            if (m.frame() != 0 || m.epoch() == 0 || frame < 1 || !live.count(m.worker())) return false;
+            auto running = running_writer.find(m.worker());
+            return running != running_writer.end() && running->second != info.publication_handle;
+        }();
+        if (restarted_ask) {
+            if (restarted.insert(m.worker()).second)
+                spdlog::info("coordinator: worker {} started again asks to join while its old self is live",
+                             m.worker());
+        } else {
+            last_heard[m.worker()] = Clock::now();
+        }
         writer_of[info.publication_handle] = m.worker();
         // Its hello before the world runs, or a mark of a frame: not a newcomer's hello or ask to join.
         if (m.frame() > 0 || frame == 0) {
@@ -652,7 +666,8 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
             // Not the last one: every worker's lease lapsing is a machine starved (seen, with three
             // clusters on two cores, both workers and the standby within 80 ms, all alive), and taking
             // them all as gone ends the world. The last waits for silence (worker_timeout) instead.
-            if (live.size() == 1) {
+            // Unless a worker started again under its id asks to join: it is dead, not starved.
+            if (live.size() == 1 && !restarted.count(w)) {
                 if (!last_lapse_noted) {
                     last_lapse_noted = true;
                     spdlog::warn(
@@ -665,7 +680,7 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
             }
             take_as_gone(w, "its liveliness lease expired");
         }
-        if (live.empty()) return false;
+        if (live.empty() && held_for.empty() && !hold_until_a_worker_joins(f, stop)) return false;
         bool all = true;
         for (std::uint32_t w : live)
             all = all && marks.count({w, f});
@@ -685,13 +700,14 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
             if (Clock::now() - since > (f == 1 ? options.worker_wait : options.worker_timeout))
                 take_as_gone(w, "it stopped answering");
         }
-        if (live.empty()) return false;
+        if (live.empty() && held_for.empty() && !hold_until_a_worker_joins(f, stop)) return false;
         inbox.wait(std::chrono::milliseconds(5));
     }
 }
 
 void Coordinator::State::take_as_gone(std::uint32_t w, const char* why) {
     live.erase(w);
+    restarted.erase(w);
     going.emplace(w, Going{why, seconds_since(frame_started)});
     // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
     lost.erase(w);
@@ -864,8 +880,14 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     for (const auto& [key, bodies] : mirror.sectors())
         loads.push_back({key, static_cast<double>(bodies.size())});
     SectorAssignment fresh = base;
-    for (const auto& [w, going_why] : going)
-        fresh = fresh.without(w, loads);
+    if (!held_for.empty()) {
+        // No worker was left: the world goes to those that joined while it waited.
+        fresh = SectorAssignment::balanced(
+            loads, std::vector<std::uint32_t>(held_for.begin(), held_for.end()), options.block_size);
+    } else {
+        for (const auto& [w, going_why] : going)
+            fresh = fresh.without(w, loads);
+    }
     // Every sector a gone worker owned, or was to own from f + 1, whole at frame f to its holders under the
     // new assignment.
     for (const auto& [key, bodies] : mirror.sectors()) {
@@ -877,6 +899,66 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     going.clear();
     send_restored(f, fresh, keys, gone, started);
     reassign(std::move(fresh), f + 1, ("worker(s) " + names + " gone").c_str());
+    if (!held_for.empty()) {
+        // The joiners learn their sectors from frame f's start, written again (they asked under its epoch).
+        write_start_again(last_go.epoch());
+        spdlog::info("coordinator: the world goes on from frame {} on worker(s) {}", f + 1,
+                     fmt::join(held_for, ", "));
+        held_for.clear();
+    }
+}
+
+bool Coordinator::State::hold_until_a_worker_joins(std::uint64_t f, const std::atomic<bool>& stop) {
+    const auto since = Clock::now();
+    spdlog::error(
+        "coordinator: every worker is gone during frame {}: the world ({} sectors) waits up to {} s for a "
+        "worker to join",
+        f, mirror.sectors().size(), options.worker_wait.count() / 1000.0);
+    status("waiting for workers", 0.0, statics.size());
+    // An assignment of no worker, in frame f's start written again: a worker asks to join under it without
+    // first waiting to reach the workers that are gone (Worker::join). Only there, not on the assignment
+    // topic: clients that read it there stopped at frame f (it names no worker to wait for, and they had
+    // followed frame f under the assignment before).
+    SectorAssignment none;
+    none.block_size = options.block_size;
+    none.epoch = next.epoch + 1;
+    none.from_frame = f + 1;
+    next = none;
+    write_start_again(next.epoch);
+    // A joiner that asked before is asked again: its request named an assignment that is no more.
+    for (std::uint32_t w : joining)
+        joining_since[w] = Clock::now();
+    for (;;) {
+        pump(sectors_in->unread() > kSampleBacklog);
+        if (fenced || stop.load()) return false;
+        for (auto it = joining.begin(); it != joining.end();) {
+            if (!not_reaching(*it).empty()) {
+                ++it;
+                continue;
+            }
+            held_for.insert(*it);
+            admitted[*it] = f + 1;
+            joining_since.erase(*it);
+            it = joining.erase(it);
+        }
+        if (!held_for.empty()) {
+            spdlog::info("coordinator: worker(s) {} joined the world waiting at frame {}, after {:.2f} s",
+                         fmt::join(held_for, ", "), f, seconds_since(since));
+            return true;
+        }
+        if (Clock::now() - since > options.worker_wait) {
+            spdlog::error("coordinator: every worker is gone, and none joined within {} s",
+                          options.worker_wait.count() / 1000.0);
+            return false;
+        }
+        inbox.wait(std::chrono::milliseconds(5));
+    }
+}
+
+void Coordinator::State::write_start_again(std::uint32_t epoch) {
+    last_go.epoch(epoch);
+    last_go.next(assignment_on_wire());
+    go_out->write(last_go);
 }
 
 void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& fresh,
@@ -1136,7 +1218,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         s.frame = f;
         if (!s.wait_for_frame(f, stop)) {
             if (s.fenced) return 6;
-            if (s.live.empty()) {
+            if (s.live.empty() && !stop.load()) {
                 spdlog::error("coordinator: every worker is gone");
                 return 5;
             }

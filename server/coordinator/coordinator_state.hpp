@@ -152,6 +152,8 @@ struct Coordinator::State {
     /// The workers that do not reach this joiner yet (0 stands for the coordinator); empty once all do.
     std::vector<std::uint32_t> not_reaching(std::uint32_t joiner) const;
     std::map<std::uint32_t, std::uint64_t> admitted;
+    /// Live workers whose id a newly started worker asks to join under: their old selves are gone.
+    std::set<std::uint32_t> restarted;
     /// The workers sectors can go to: the live ones and those admitted.
     std::set<std::uint32_t> members() const {
         std::set<std::uint32_t> out = live;
@@ -251,6 +253,15 @@ struct Coordinator::State {
     /// stepped again here, and every sector they owned (or were to own from f + 1) sent whole to its
     /// holders under an assignment that gives their ranges to their neighbours on the curve, from f + 1.
     void restore_gone(std::uint64_t f);
+    /// Every worker gone during frame f: the copy of the world holds every sector as last published, and
+    /// waits (up to options.worker_wait) for a worker to join, restarted or new, to take them all. False if
+    /// none comes, or on a stop.
+    bool hold_until_a_worker_joins(std::uint64_t f, const std::atomic<bool>& stop);
+    /// Frame f's start written again, under `epoch`, with the next assignment: how workers learn of an
+    /// assignment made while no frame runs.
+    void write_start_again(std::uint32_t epoch);
+    /// The workers admitted by hold_until_a_worker_joins, which take every sector at once.
+    std::set<std::uint32_t> held_for;
     SectorAssignment balanced(const std::set<std::uint32_t>& workers) const;
     std::map<std::uint32_t, double> worker_loads(const SectorAssignment& assignment) const;
     void reassign(SectorAssignment fresh, std::uint64_t from_frame, const char* why);

@@ -966,6 +966,75 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
 }
 
+/// Every worker of a cluster of `workers` killed at once after frame 150, lpss-cluster starting them again
+/// (--restart-workers): the coordinator holds the world until one joins, and no body is lost or doubled.
+/// Returns the pause a client saw, in seconds.
+double kill_every_worker(int workers, int domain) {
+    const Scene scene = crossing_scene_with_far_balls();
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "every" + std::to_string(workers));
+    constexpr std::uint64_t kFrames = 600;
+    const auto sim = run_sim(path, kFrames);
+    EXPECT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "every");
+    EXPECT_TRUE(client);
+    if (!client) return -1.0;
+    auto cluster = start_cluster(path, domain, workers, kFrames, {"--block-size", "1", "--restart-workers"});
+    EXPECT_TRUE(cluster.process);
+    if (!cluster.process) return -1.0;
+    using Clock = std::chrono::steady_clock;
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::map<std::uint64_t, Clock::time_point> arrived;
+    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
+        collect_into(
+            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
+            std::chrono::milliseconds(5));
+    };
+    gather(150, std::chrono::seconds(60));
+    EXPECT_FALSE(frames.empty());
+    if (frames.empty()) return -1.0;
+    const auto killed = Clock::now();
+    EXPECT_EQ(
+        std::system(("pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " '").c_str()), 0);
+    const std::uint64_t killed_at = frames.rbegin()->first;
+    gather(kFrames, std::chrono::seconds(90));
+    EXPECT_EQ(frames.rbegin()->first, kFrames) << "the world goes on to its last frame";
+    const double pause = longest_wait(arrived, killed_at, killed);
+    double worst = 0.0;
+    EXPECT_EQ(against_sim(frames, sim, worst), "");
+    std::uint64_t after = 0;
+    for (const auto& [f, frame] : frames)
+        after += f > killed_at ? 1 : 0;
+    std::printf(
+        "every worker of %d killed after frame %llu: the longest wait for a frame %.3f s; %llu frames seen "
+        "after it, largest difference from lpss-sim %.3g\n",
+        workers, static_cast<unsigned long long>(killed_at), pause, static_cast<unsigned long long>(after),
+        worst);
+    EXPECT_LE(worst, 1e-3);
+    EXPECT_GE(after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
+    EXPECT_NE(text.find("every worker is gone during frame"), std::string::npos) << text;
+    EXPECT_NE(text.find("joined the world waiting at frame"), std::string::npos) << text;
+    return pause;
+}
+
+TEST(Cluster, AWorldWhoseOnlyWorkerIsKilledWaitsForItToStartAgainAndLosesNothing) {
+    // The worker started again asks to join while the coordinator still counts its old self: that request
+    // marks the old one dead at its lease, without the silence the last live worker is otherwise given.
+    const double pause = kill_every_worker(1, 165);
+    EXPECT_GE(pause, 0.0);
+    EXPECT_LT(pause, 3.0) << "the world goes on once the worker started again has joined";
+}
+
+TEST(Cluster, AWorldWhoseEveryWorkerIsKilledAtOnceWaitsForThemAndLosesNothing) {
+    // The last live worker is taken as gone only after its silence (worker_timeout, 5 s): a machine too busy
+    // to renew every lease is not taken for a dead cluster. The pause is that long.
+    const double pause = kill_every_worker(2, 166);
+    EXPECT_GE(pause, 0.0);
+    EXPECT_LT(pause, 10.0);
+}
+
 TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
     // Worker 2 of 3 is frozen (SIGSTOP) past its lease, as a worker cut off from the others would be: the
     // world goes on without it. Thawed, it finds frames started without it and stops (exit 5) without
