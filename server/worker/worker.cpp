@@ -93,7 +93,9 @@ struct Worker::State {
     Halo halo;
     std::uint64_t frame = 0;
     std::uint32_t degraded = 0;
-    bool left_out = false;               ///< an assignment in force leaves it out: taken as gone
+    bool left_out = false;  ///< an assignment in force leaves it out: taken as gone
+    /// A frame whose start announced a newer assignment without this worker: taken as gone (see pump).
+    std::optional<std::uint64_t> announced_without_it;
     std::uint64_t frame_started_ns = 0;  ///< the FrameGo's, passed on in the mark
     double time_lost = 0.0;
 
@@ -295,6 +297,13 @@ void Worker::State::pump() {
         if (!info.valid_data) return;
         coordinator_lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
         if (go.frame() > frame) gate.take_go(go);
+        // A start, one of a frame begun here written again included, announcing an assignment newer than
+        // any known here that leaves this worker out: the coordinator took it as gone (every worker gone,
+        // it waits for one to join and names none). Older ones (history a joiner reads) say nothing.
+        const auto& named = go.next().workers();
+        if (world && !go.stop() && go.next().epoch() > halo.next().epoch &&
+            std::find(named.begin(), named.end(), options.id) == named.end())
+            announced_without_it = go.frame();
     });
     acks_in->take_all([&](const wire::FrameAck& ack, const dds::fdds::SampleInfo& info) {
         if (info.valid_data) gate.take_ack(ack);
@@ -840,6 +849,14 @@ int Worker::run(const std::atomic<bool>& stop) {
                 id, s.frame);
             return s.sit_out(stop);
         }
+        if (s.announced_without_it) {
+            spdlog::error(
+                "worker {}: the coordinator took this worker as gone (frame {}'s start announces an "
+                "assignment without it) after its frame {}: stopping without publishing",
+                id, *s.announced_without_it, s.frame);
+            s.forget_what_it_wrote();
+            return kTakenAsGone;
+        }
         const wire::FrameGo* next = s.gate.go(s.frame + 1);
         if (next == nullptr) {
             // A frame after the next started without this worker: the coordinator took it as gone (it was
@@ -959,7 +976,7 @@ int Worker::run(const std::atomic<bool>& stop) {
         }
         s.apply_samples(s.frame - 1);
         s.apply_go(go);
-        if (s.left_out) {
+        if (s.left_out || s.announced_without_it) {
             spdlog::error(
                 "worker {}: the coordinator took this worker as gone (the assignment in force from frame {} "
                 "leaves it out): stopping without publishing",

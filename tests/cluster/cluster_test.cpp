@@ -966,10 +966,10 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     EXPECT_NE(text.find("of worker 2 stepped again here"), std::string::npos) << text;
 }
 
-/// Every worker of a cluster of `workers` killed at once after frame 150, lpss-cluster starting them again
-/// (--restart-workers): the coordinator holds the world until one joins, and no body is lost or doubled.
-/// Returns the pause a client saw, in seconds.
-double kill_every_worker(int workers, int domain) {
+/// Every worker of a cluster of `workers` killed at once after frame 150 (or, `stop_s` > 0, stopped for
+/// that long), lpss-cluster starting killed ones again (--restart-workers): the coordinator holds the world
+/// until one joins, and no body is lost or doubled. Returns the pause a client saw, in seconds.
+double fault_every_worker(int workers, int domain, int stop_s = 0) {
     const Scene scene = crossing_scene_with_far_balls();
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "every" + std::to_string(workers));
@@ -994,8 +994,12 @@ double kill_every_worker(int workers, int domain) {
     EXPECT_FALSE(frames.empty());
     if (frames.empty()) return -1.0;
     const auto killed = Clock::now();
-    EXPECT_EQ(
-        std::system(("pkill -KILL -f '[l]pss-worker --domain " + std::to_string(domain) + " '").c_str()), 0);
+    const std::string pattern = "'[l]pss-worker --domain " + std::to_string(domain) + " '";
+    // Stopped and continued in the background: the client is read meanwhile (at least every 2 s).
+    const std::string fault = stop_s > 0 ? "(pkill -STOP -f " + pattern + "; sleep " +
+                                               std::to_string(stop_s) + "; pkill -CONT -f " + pattern + ") &"
+                                         : "pkill -KILL -f " + pattern;
+    EXPECT_EQ(std::system(fault.c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     gather(kFrames, std::chrono::seconds(90));
     EXPECT_EQ(frames.rbegin()->first, kFrames) << "the world goes on to its last frame";
@@ -1006,10 +1010,10 @@ double kill_every_worker(int workers, int domain) {
     for (const auto& [f, frame] : frames)
         after += f > killed_at ? 1 : 0;
     std::printf(
-        "every worker of %d killed after frame %llu: the longest wait for a frame %.3f s; %llu frames seen "
+        "every worker of %d %s after frame %llu: the longest wait for a frame %.3f s; %llu frames seen "
         "after it, largest difference from lpss-sim %.3g\n",
-        workers, static_cast<unsigned long long>(killed_at), pause, static_cast<unsigned long long>(after),
-        worst);
+        workers, stop_s > 0 ? "stopped" : "killed", static_cast<unsigned long long>(killed_at), pause,
+        static_cast<unsigned long long>(after), worst);
     EXPECT_LE(worst, 1e-3);
     EXPECT_GE(after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
@@ -1022,7 +1026,7 @@ double kill_every_worker(int workers, int domain) {
 TEST(Cluster, AWorldWhoseOnlyWorkerIsKilledWaitsForItToStartAgainAndLosesNothing) {
     // The worker started again asks to join while the coordinator still counts its old self: that request
     // marks the old one dead at its lease, without the silence the last live worker is otherwise given.
-    const double pause = kill_every_worker(1, 165);
+    const double pause = fault_every_worker(1, 165);
     EXPECT_GE(pause, 0.0);
     EXPECT_LT(pause, 3.0) << "the world goes on once the worker started again has joined";
 }
@@ -1030,9 +1034,18 @@ TEST(Cluster, AWorldWhoseOnlyWorkerIsKilledWaitsForItToStartAgainAndLosesNothing
 TEST(Cluster, AWorldWhoseEveryWorkerIsKilledAtOnceWaitsForThemAndLosesNothing) {
     // The last live worker is taken as gone only after its silence (worker_timeout, 5 s): a machine too busy
     // to renew every lease is not taken for a dead cluster. The pause is that long.
-    const double pause = kill_every_worker(2, 166);
+    const double pause = fault_every_worker(2, 166);
     EXPECT_GE(pause, 0.0);
     EXPECT_LT(pause, 10.0);
+}
+
+TEST(Cluster, AWorldWhoseOnlyWorkerStopsPastItsSilenceWaitsForItToJoinAgain) {
+    // SIGSTOP for 7 s: past the last worker's 5 s of silence, it is taken as gone and the world waits.
+    // Continued, the worker reads the frame start written again without it, stops without publishing and
+    // joins again as a fresh worker, and the world goes on from where it was.
+    const double pause = fault_every_worker(1, 167, 7);
+    EXPECT_GE(pause, 5.0);
+    EXPECT_LT(pause, 12.0);
 }
 
 TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
