@@ -925,14 +925,21 @@ bool Coordinator::State::hold_until_a_worker_joins(std::uint64_t f, const std::a
     none.from_frame = f + 1;
     next = none;
     write_start_again(next.epoch);
-    // A joiner that asked before is asked again: its request named an assignment that is no more.
+    // Workers admitted from a later frame were to get their sectors from workers now gone: they read that
+    // start too, and ask again (or, with a world already, join again as fresh workers).
+    admitted.clear();
     for (std::uint32_t w : joining)
         joining_since[w] = Clock::now();
+    // Only an ask under that assignment: it comes from a worker that has read it, whatever it did before.
+    auto asked_under_it = [&](std::uint32_t w) {
+        auto ask = marks.find({w, 0});
+        return ask != marks.end() && ask->second.epoch() == next.epoch;
+    };
     for (;;) {
         pump(sectors_in->unread() > kSampleBacklog);
         if (fenced || stop.load()) return false;
         for (auto it = joining.begin(); it != joining.end();) {
-            if (!not_reaching(*it).empty()) {
+            if (!asked_under_it(*it) || !not_reaching(*it).empty()) {
                 ++it;
                 continue;
             }
