@@ -664,9 +664,10 @@ bool Coordinator::State::wait_for_frame(std::uint64_t f, const std::atomic<bool>
         for (std::uint32_t w : std::set<std::uint32_t>(live)) {
             if (!lost.count(w)) continue;
             // Not the last one: every worker's lease lapsing is a machine starved (seen, with three
-            // clusters on two cores, both workers and the standby within 80 ms, all alive), and taking
-            // them all as gone ends the world. The last waits for silence (worker_timeout) instead.
-            // Unless a worker started again under its id asks to join: it is dead, not starved.
+            // clusters on two cores, both workers and the standby within 80 ms, all alive), and taken as
+            // gone they would all have to join again while the world waits for them
+            // (hold_until_a_worker_joins). The last waits for silence (worker_timeout) instead, unless a
+            // worker started again under its id asks to join: it is dead, not starved.
             if (live.size() == 1 && !restarted.count(w)) {
                 if (!last_lapse_noted) {
                     last_lapse_noted = true;

@@ -338,22 +338,25 @@ plot '$CSV' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', 
      '$CSV' using 1:($2==2?$5:NaN) with linespoints pt 5 lc 2 title '2 workers', \
      '$CSV' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
-set ylabel 'ms per frame'
-set title 'Running: mean (solid) and p99 (open)'
-set key top left maxrows 3 width -4
-set offsets 0, 0, graph 0.35, 0
-plot '$CSV' using 1:($2==1?$6:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     '$CSV' using 1:($2==2?$6:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '$CSV' using 1:($2==4?$6:NaN) with linespoints pt 9 lc 3 title '4 workers', \
-     '$CSV' using 1:($2==1?$7:NaN) with points pt 6 lc 1 title '1 worker p99', \
-     '$CSV' using 1:($2==2?$7:NaN) with points pt 4 lc 2 title '2 workers p99', \
-     '$CSV' using 1:($2==4?$7:NaN) with points pt 8 lc 3 title '4 workers p99', \
-     '$CSV' using 1:($2==1?$8:NaN) with linespoints pt 13 lc 4 dt 2 title 'lpss-sim', \
-     '$CSV' using 1:($2==1?$9:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
-     '$CSV' using 1:($2==1?$10:NaN) with lines dt 3 lc rgb 'black' title 'target 1.5 x sim + 1 ms'
+set ylabel 'ms per frame / (1.5 x lpss-sim + 1 ms)'
+set title 'Running: frame time over its budget, mean (solid) and p99 (open)'
+set key top left maxrows 4 width 1 samplen 2
+set logscale y
+set yrange [0.5:12]
+set ytics (0.5, 0.75, 1, 1.5, 2, 3, 5, 8, 12)
+plot '$CSV' using 1:($2==1?$6/$10:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$6/$10:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$6/$10:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     '$CSV' using 1:($2==1?$7/$10:NaN) with points pt 6 lc 1 title '1 worker p99', \
+     '$CSV' using 1:($2==2?$7/$10:NaN) with points pt 4 lc 2 title '2 workers p99', \
+     '$CSV' using 1:($2==4?$7/$10:NaN) with points pt 8 lc 3 title '4 workers p99', \
+     '$CSV' using 1:($2==1?$9/$10:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
+     1 with lines dt 3 lc rgb 'black' title 'target'
+unset logscale y
+set yrange [0:*]
+set ytics autofreq
 set key default
 set key top right font ',8'
-set offsets 0, 0, 0, 0
 set ylabel 'all processes / lpss-sim'
 set title 'Memory: resident, all processes together, over lpss-sim'
 plot '$CSV' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
