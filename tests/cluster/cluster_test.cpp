@@ -1028,7 +1028,9 @@ TEST(Cluster, AWorldWhoseOnlyWorkerIsKilledWaitsForItToStartAgainAndLosesNothing
     // marks the old one dead at its lease, without the silence the last live worker is otherwise given.
     const double pause = fault_every_worker(1, 165);
     EXPECT_GE(pause, 0.0);
-    EXPECT_LT(pause, 3.0) << "the world goes on once the worker started again has joined";
+    // A new process, a new DDS participant, its discovery and its request: 0.46 s here alone; the bound
+    // leaves room for a loaded machine (parallel suites), where discovery has taken seconds.
+    EXPECT_LT(pause, 5.0) << "the world goes on once the worker started again has joined";
 }
 
 TEST(Cluster, AWorldWhoseEveryWorkerIsKilledAtOnceWaitsForThemAndLosesNothing) {
@@ -1045,7 +1047,9 @@ TEST(Cluster, AWorldWhoseOnlyWorkerStopsPastItsSilenceWaitsForItToJoinAgain) {
     // joins again as a fresh worker, and the world goes on from where it was.
     const double pause = fault_every_worker(1, 167, 7);
     EXPECT_GE(pause, 5.0);
-    EXPECT_LT(pause, 12.0);
+    // 7.0 s here alone: the stop, then a fresh participant's discovery and request (seconds under load);
+    // well within the 30 s the world waits.
+    EXPECT_LT(pause, 20.0);
 }
 
 TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
