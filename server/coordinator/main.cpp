@@ -29,7 +29,9 @@ int main(int argc, char** argv) {
     app.add_option("--command-rate", o.command_rate,
                    "commands a second one client may send, in bursts of as many (0: no limit)")
         ->check(CLI::Range(0.0, 1e9));
-    app.add_option("--worker-wait-s", worker_wait_s, "how long to wait for the workers to appear");
+    app.add_option(
+        "--worker-wait-s", worker_wait_s,
+        "how long to wait for the workers to appear, and for one to join once every worker is gone");
     app.add_option("--worker-timeout-ms", worker_timeout_ms, "silence after which a worker is taken as gone");
     app.add_flag(
         "--standby", o.standby,
