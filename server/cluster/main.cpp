@@ -257,6 +257,7 @@ int main(int argc, char** argv) {
     // A worker that dies again at once (a scene that crashes it, say) is not started in a loop.
     constexpr auto kRestartInterval = std::chrono::seconds(10);
     std::vector<Clock::time_point> restarted_at(children.size(), Clock::time_point{});
+    std::vector<bool> said_ended(children.size(), false);
     int restarts = 0;
     while (true) {
         inbox.wait(std::chrono::milliseconds(100));
@@ -310,12 +311,24 @@ int main(int argc, char** argv) {
             first_frame_seconds = std::chrono::duration<double>(Clock::now() - start).count();
             memory_seen = true;
         }
-        if (restart_workers && last_frame > 0 && !stop.load()) {
+        if (last_frame > 0 && !stop.load()) {
             for (std::size_t n = 0; n < children.size(); ++n) {
                 ChildProcess& c = children[n];
                 const auto w = static_cast<std::uint32_t>(n + 1);
                 // (One that ends with 0 read the coordinator's stop: the run is ending.)
                 if (c.running() || c.exit_code().value_or(0) == 0) continue;
+                if (!restart_workers) {
+                    if (!said_ended[n]) {
+                        said_ended[n] = true;
+                        fmt::print(
+                            "lpss-cluster: worker {} ended (exit {}); the others take its sectors, or with "
+                            "none "
+                            "left the world waits for a worker to join (--restart-workers starts it again)\n",
+                            w, c.exit_code().value_or(1));
+                        std::fflush(stdout);
+                    }
+                    continue;
+                }
                 if (Clock::now() - restarted_at[n] < kRestartInterval) continue;
                 const int code = c.exit_code().value_or(1);
                 restarted_at[n] = Clock::now();
