@@ -321,9 +321,9 @@ int main(int argc, char** argv) {
                     if (!said_ended[n]) {
                         said_ended[n] = true;
                         fmt::print(
-                            "lpss-cluster: worker {} ended (exit {}); the others take its sectors, or with "
-                            "none "
-                            "left the world waits for a worker to join (--restart-workers starts it again)\n",
+                            "lpss-cluster: worker {} ended (exit {}); the others take its sectors, or "
+                            "with none left the world waits for a worker to join (--restart-workers "
+                            "starts it again)\n",
                             w, c.exit_code().value_or(1));
                         std::fflush(stdout);
                     }
