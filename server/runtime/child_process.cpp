@@ -31,6 +31,13 @@ std::optional<ChildProcess> ChildProcess::start(const std::string& program,
                 close(fd);
             }
         }
+        // Nothing else of the parent's: its DDS participant's sockets were inherited by every child
+        // (seen with ss: lpss-cluster's discovery port held by all five processes), which kept that port
+        // bound, unread, for as long as any child lived.
+        if (close_range(3, ~0U, 0) != 0) {
+            for (int fd = 3; fd < 1024; ++fd)
+                close(fd);
+        }
         // Stop with the parent, whatever ends it.
         prctl(PR_SET_PDEATHSIG, SIGTERM);
         execv(program.c_str(), argv.data());
