@@ -87,6 +87,32 @@ void apply_dds_log_verbosity() {
     (void)applied;
 }
 
+/// Creates a participant under the id lpss chooses when the profile leaves it to Fast DDS: one with fresh
+/// shared-memory ports (shm_cleanup.hpp) when the profile uses shared memory, or else the lowest not in
+/// `avoid` (participant.hpp says why), or Fast DDS's own choice when `avoid` is empty or that id is refused.
+/// Sets `id` to the one taken (-1: Fast DDS chose). Null if Fast DDS creates none.
+fdds::DomainParticipant* create_under_chosen_id(int domain, fdds::DomainParticipantQos qos,
+                                                bool shared_memory, const std::set<int>& avoid, int& id) {
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    std::optional<int> chosen;
+    if (qos.wire_protocol().participant_id < 0 && shared_memory) {
+        chosen = participant_id_with_fresh_ports(domain, avoid);
+    } else if (qos.wire_protocol().participant_id < 0 && !avoid.empty()) {
+        for (chosen = 0; avoid.count(*chosen);)
+            ++*chosen;
+    }
+    if (chosen) {
+        fdds::DomainParticipantQos with_id = qos;
+        with_id.wire_protocol().participant_id = *chosen;
+        if (fdds::DomainParticipant* p = factory->create_participant(domain, with_id)) {
+            id = *chosen;
+            return p;
+        }
+    }
+    id = qos.wire_protocol().participant_id;
+    return factory->create_participant(domain, qos);
+}
+
 /// Makes every peer on `domain` announce itself again, now that a participant just created there listens.
 /// Fast DDS 2.9 sends a participant's first announcement before it listens (RTPSParticipantImpl::enable
 /// enables the built-in protocols, then registers the receivers), and a peer answers a participant new to
@@ -104,18 +130,14 @@ void prompt_peers_to_announce(int domain, fdds::DomainParticipantQos qos, bool s
     const char* wanted = std::getenv("LPSS_DDS_DISCOVERY_PROMPT");
     if (wanted != nullptr && std::strcmp(wanted, "0") == 0) return;
     qos.name(qos.name().to_string() + "-discovery-prompt");
-    // Its own ports: fresh shared-memory ones as for any lpss participant, else any Fast DDS finds free.
+    // Its own id, chosen as the first participant's was, and not that one's.
     qos.wire_protocol().participant_id = -1;
-    if (shared_memory) {
-        if (main_id >= 0) avoid.insert(main_id);
-        if (std::optional<int> id = participant_id_with_fresh_ports(domain, avoid))
-            qos.wire_protocol().participant_id = *id;
-    }
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    fdds::DomainParticipant* prompt = factory->create_participant(domain, qos);
+    if (main_id >= 0 && (shared_memory || !avoid.empty())) avoid.insert(main_id);
+    int id = -1;
+    fdds::DomainParticipant* prompt = create_under_chosen_id(domain, qos, shared_memory, avoid, id);
     // Deleted at once: its announcement is out, and its departure follows it on the same path, so a peer
     // reads the announcement (and answers to all) before it reads that the prompt is gone.
-    if (prompt != nullptr) factory->delete_participant(prompt);
+    if (prompt != nullptr) fdds::DomainParticipantFactory::get_instance()->delete_participant(prompt);
 }
 
 }  // namespace
@@ -142,24 +164,7 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
         shared_memory =
             shared_memory ||
             std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(transport);
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    std::optional<int> id;
-    if (qos->wire_protocol().participant_id < 0 && shared_memory) {
-        id = participant_id_with_fresh_ports(domain, avoid);
-    } else if (qos->wire_protocol().participant_id < 0 && !avoid.empty()) {
-        for (id = 0; avoid.count(*id);)
-            ++*id;
-    }
-    if (id) {
-        fdds::DomainParticipantQos chosen = qos.value();
-        chosen.wire_protocol().participant_id = *id;
-        p->participant_ = factory->create_participant(domain, chosen);
-        if (p->participant_ != nullptr) p->participant_id_ = *id;
-    }
-    if (p->participant_ == nullptr) {
-        p->participant_ = factory->create_participant(domain, qos.value());
-        p->participant_id_ = qos->wire_protocol().participant_id;
-    }
+    p->participant_ = create_under_chosen_id(domain, qos.value(), shared_memory, avoid, p->participant_id_);
     if (p->participant_ == nullptr) {
         return Error{"cannot create a DDS participant on domain " + std::to_string(domain) +
                      (security.empty()
