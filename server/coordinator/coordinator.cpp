@@ -205,17 +205,22 @@ void Coordinator::State::pump(bool with_samples) {
             }
             return;
         }
-        // An ask to join under the id of a live worker, from another writer: that worker started again, and
-        // its old self is dead or cut off. Not word from the old one, whose silence goes on.
+        // A hello or an ask to join under the id of a live worker, from another writer: that worker started
+        // again, and its old self is dead or cut off. Not word from the old one, whose silence goes on. The
+        // hello counts too: a worker started again may not be able to ask for a long time (it asks once it
+        // reaches every worker the assignment names, and those may be dead with it: every worker killed at
+        // once waited out the last one's silence, 5 s, before this).
         const bool restarted_ask = [&] {
-            if (m.frame() != 0 || m.epoch() == 0 || frame < 1 || !live.count(m.worker())) return false;
+            if (m.frame() != 0 || frame < 1 || !live.count(m.worker())) return false;
             auto running = running_writer.find(m.worker());
             return running != running_writer.end() && running->second != info.publication_handle;
         }();
         if (restarted_ask) {
             if (restarted.insert(m.worker()).second)
-                spdlog::info("coordinator: worker {} started again asks to join while its old self is live",
-                             m.worker());
+                spdlog::info(
+                    "coordinator: worker {} started again (a new writer says hello or asks to join) while "
+                    "its old self is live",
+                    m.worker());
         } else {
             last_heard[m.worker()] = Clock::now();
         }

@@ -1034,11 +1034,13 @@ TEST(Cluster, AWorldWhoseOnlyWorkerIsKilledWaitsForItToStartAgainAndLosesNothing
 }
 
 TEST(Cluster, AWorldWhoseEveryWorkerIsKilledAtOnceWaitsForThemAndLosesNothing) {
-    // The last live worker is taken as gone only after its silence (worker_timeout, 5 s): a machine too busy
-    // to renew every lease is not taken for a dead cluster. The pause is that long.
+    // The last live worker is taken as gone on its lease alone only when a worker started again under its
+    // id has been heard (a machine too busy to renew every lease is not taken for a dead cluster); the
+    // restarted workers cannot ask to join while the assignment names the other dead one, but their hello
+    // counts. Before it did, the pause was the last one's silence: 5.1-5.5 s (worker_timeout, 5 s).
     const double pause = fault_every_worker(2, 166);
     EXPECT_GE(pause, 0.0);
-    EXPECT_LT(pause, 10.0);
+    EXPECT_LT(pause, 4.5) << "the world goes on once the workers started again are heard, not after 5 s";
 }
 
 TEST(Cluster, AWorldWhoseOnlyWorkerStopsPastItsSilenceWaitsForItToJoinAgain) {
