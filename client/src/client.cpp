@@ -878,16 +878,17 @@ std::vector<WorldFrame> Client::poll(std::chrono::milliseconds wait) {
     return out;
 }
 
+bool Client::reaches_cluster() const {
+    const State& s = *state_;
+    const int workers = s.workers_from.empty() ? 0 : static_cast<int>(s.workers_from.rbegin()->second.size());
+    return s.grid && (!s.commands_out || s.commands_out->matched() > 0) &&
+           s.results_in->matched() >= workers + 1;  // coordinator, workers
+}
+
 bool Client::wait_for_cluster(std::chrono::milliseconds limit) {
     State& s = *state_;
-    auto connected = [&] {
-        const int workers =
-            s.workers_from.empty() ? 0 : static_cast<int>(s.workers_from.rbegin()->second.size());
-        return s.grid && (!s.commands_out || s.commands_out->matched() > 0) &&
-               s.results_in->matched() >= workers + 1;  // coordinator, workers
-    };
     const auto end = std::chrono::steady_clock::now() + limit;
-    while (!connected() && std::chrono::steady_clock::now() < end) {
+    while (!reaches_cluster() && std::chrono::steady_clock::now() < end) {
         s.inbox.wait(std::chrono::milliseconds(20));
         s.take();
     }

@@ -95,7 +95,8 @@ void run_late_join(const Context& context) {
             ::setenv("LPSS_DDS_DISCOVERY_PROMPT", "0", 1);
         auto client = connect(fmt::format("late-join-{}", k));
         ::unsetenv("LPSS_DDS_DISCOVERY_PROMPT");
-        const bool found = client->wait_for_cluster(std::chrono::seconds(30));
+        // Matched: it reaches the coordinator and every worker (wait_for_cluster also returns at its limit).
+        const bool found = client->wait_for_cluster(std::chrono::seconds(30)) && client->reaches_cluster();
         const double to_match = std::chrono::duration<double>(Clock::now() - start).count();
         std::uint64_t frame = 0;
         while (frame == 0 && Clock::now() - start < std::chrono::seconds(30)) {

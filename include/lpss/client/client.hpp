@@ -41,7 +41,7 @@ enum class FrameContent {
 
 struct ClientOptions {
     int domain = 0;
-    std::string profile;           ///< Fast DDS XML profile; empty: the built-in local one
+    std::string profile;  ///< Fast DDS XML profile; empty: the built-in local one
     /// DDS Security identity folder (deploy/security/identities.sh: an observer's, or an operator's to send
     /// commands); empty: none, and a secured cluster is then out of reach.
     std::string security;
@@ -119,8 +119,12 @@ public:
 
     /// Waits up to `limit` for a running cluster (its sector assignment), and for this client's commands to
     /// reach the coordinator and the results to come back from it and every worker (commands are not
-    /// kept for late readers: one sent before that is lost). False if no cluster appeared.
+    /// kept for late readers: one sent before that is lost). False if no cluster appeared; true also when
+    /// the limit came before the commands could reach it (reaches_cluster() tells).
     bool wait_for_cluster(std::chrono::milliseconds limit);
+    /// Whether this client's commands reach the coordinator and the results come back from it and every
+    /// worker of the assignment it knows (what wait_for_cluster waits for), as of the last wait or poll.
+    bool reaches_cluster() const;
     /// Takes what arrived, waiting up to `wait` for it, and returns every frame that became complete, in
     /// order (also passed to the on_frame callback). Call it at least every two seconds (120 frames at
     /// 60 Hz): a client polled less often has lost frame marks and asks the workers for its sectors again.
