@@ -5,6 +5,7 @@
 # started by hand under id 1 2 s after that. Seen on 2026-12-03: the standby took over, waited out the
 # last worker's 5 s silence, admitted the new worker 1 at once, and that worker never ran a frame: every
 # 5 s it was taken as gone and admitted again, and lpss-watch stopped at the frame of the kill.
+# LOG_LEVEL=debug sets the hand-started worker's --log-level.
 #   unshare -rn bash -c 'ip link set lo up; tests/tools/takeover_during_hold.sh build'
 set -u
 build=$(cd "$1" && pwd); domain=175
@@ -20,7 +21,7 @@ pkill -KILL -f "[l]pss-worker --domain $domain "
 sleep 2
 pkill -KILL -f "[l]pss-coordinator --domain $domain .*--await-standby"
 sleep 2
-"$build/server/lpss-worker" --domain $domain --id 1 > "$logs/worker-1-by-hand.out" 2>&1 &
+"$build/server/lpss-worker" --domain $domain --id 1 --log-level ${LOG_LEVEL:-info} > "$logs/worker-1-by-hand.out" 2>&1 &
 worker=$!
 sleep 12
 kill -INT $cluster 2>/dev/null; sleep 3; kill $worker $watch 2>/dev/null; wait
