@@ -439,6 +439,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
             wire::BodyDescription d = dds::describe(b, anchor);
             d.rank(n);
             planes_out->write(d);
+            plane_descriptions[b.id] = d;
         } else {
             by_sector[at[n].sector].push_back(n);
         }
@@ -626,6 +627,7 @@ void Coordinator::State::decide(const wire::Command& c) {
             wire::BodyDescription d = dds::describe(body, anchor);
             d.rank(~std::uint64_t{0});
             planes_out->write(d);
+            plane_descriptions[body.id] = d;
             planes[body.id] = body;
         }
     } else if (c.kind() == wire::kCommandRemove) {
@@ -636,6 +638,7 @@ void Coordinator::State::decide(const wire::Command& c) {
             if (!planes_out->dispose(d))
                 spdlog::error("coordinator: cannot dispose the description of plane {}", c.body());
             planes.erase(plane);
+            plane_descriptions.erase(c.body());
         }
     }
 }

@@ -107,6 +107,10 @@ struct Coordinator::State {
     /// through the coordinator only (the scene, spawns, removals), so this is always exact.
     std::unordered_map<BodyId, bool> statics;
     std::map<BodyId, BodyDesc> planes;
+    /// Each plane's description as the coordinator wrote it (or its standby read it). Durable samples live in
+    /// their writer: a standby that takes over writes them again, or a worker joining later waits for ever
+    /// for the planes the starts count (seen: tests/tools/takeover_during_hold.sh).
+    std::map<BodyId, wire::BodyDescription> plane_descriptions;
     /// The world as the workers last published it (plus in-flight handoffs): what a worker that is gone
     /// leaves behind, restored to the workers that take its sectors over.
     dds::SectorMirror mirror;

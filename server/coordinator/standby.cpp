@@ -37,6 +37,7 @@ void Coordinator::State::follow_bodies(const wire::Command& c) {
     } else if (c.kind() == wire::kCommandRemove) {
         statics.erase(c.body());
         planes.erase(c.body());
+        plane_descriptions.erase(c.body());
     }
 }
 
@@ -141,6 +142,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
         planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data) return;  // removals come as commands
             planes[d.id()] = dds::from_wire(d);
+            plane_descriptions[d.id()] = d;
             statics[d.id()] = true;
         });
         commands_in->take_all([&](const wire::Command& c, const dds::fdds::SampleInfo& info) {
@@ -203,6 +205,10 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     // earlier never had frame 231's start while the others stepped it, and was taken as gone 5 s later).
     // It is written again under this term: a worker that had it has started that frame and looks no more
     // at its start; one still waiting (for it, or for the acknowledgement of the standby it named) starts.
+    // The planes' descriptions went with the coordinator's writer; a worker that joins from now on waits for
+    // as many as a start counts.
+    for (const auto& [id, description] : plane_descriptions)
+        planes_out->write(description);
     last_go.coordinator(options.id);
     last_go.term(term);
     last_go.standby(standby);

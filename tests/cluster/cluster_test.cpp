@@ -1601,6 +1601,43 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     EXPECT_EQ(text.find("is gone", took_over), std::string::npos) << text;
 }
 
+TEST(Cluster, AWorkerJoiningAfterAStandbyTookOverGetsThePlanesAndRuns) {
+    // Durable samples live in their writer: the ground plane's description went with the killed
+    // coordinator's, and a worker that joined after the standby took over waited for ever for the plane a
+    // frame start counts (tests/tools/takeover_during_hold.sh found it: it never ran a frame). The standby
+    // now writes the planes again when it takes over. The example scene has a ground plane.
+    const int domain = 176;
+    const testing::DomainCleanup cleanup(domain);
+    constexpr std::uint64_t kFrames = 600;
+    auto client = connect(domain, "after-takeover");
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(LPSS_SOURCE_DIR "/deploy/scenes/far_stacks.textproto", domain, 2, kFrames,
+                                 {"--await-clients", "1"});
+    ASSERT_TRUE(cluster.process);
+    std::map<std::uint64_t, WorldFrame> frames;
+    collect_into(*client, frames, 100, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty());
+    const std::string primary =
+        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    ASSERT_EQ(std::system(("pkill -KILL -f " + primary).c_str()), 0);
+    const std::uint64_t killed_at = frames.rbegin()->first;
+    collect_into(*client, frames, killed_at + 60, std::chrono::seconds(60));
+    auto newcomer = runtime::ChildProcess::start(
+        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "3"}, cluster.log_dir + ".joined3");
+    ASSERT_TRUE(newcomer);
+    collect_into(*client, frames, kFrames, std::chrono::seconds(90));
+    EXPECT_EQ(frames.rbegin()->first, kFrames) << "the world goes on to its last frame";
+    const std::size_t bodies = frames.begin()->second.bodies.size();
+    for (const auto& [f, frame] : frames)
+        ASSERT_EQ(frame.bodies.size(), bodies) << "frame " << f;
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    EXPECT_TRUE(newcomer->wait(std::chrono::seconds(20)));
+    const std::string log = read_file(cluster.log_dir + ".joined3");
+    EXPECT_NE(log.find("joins the cluster with sectors"), std::string::npos) << log;
+    EXPECT_NE(read_file(cluster.log_dir + "/standby.log").find("taking over"), std::string::npos)
+        << read_file(cluster.log_dir + "/standby.log");
+}
+
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
     // Without a standby coordinator (none is started here), when the coordinator is killed mid-run, the
     // workers must not wait in silence for ever. They hear no coordinator for its lease (0.3 s), say so,

@@ -1,10 +1,11 @@
 #!/bin/bash
-# Reproduces a defect not fixed (docs/operations.md, "Not handled yet": a standby that takes over while
-# the world waits for a worker): a 2-worker --realtime cluster of the example scene, both workers killed
+# Reproduces a defect now fixed (docs/operations.md, "Fixed: a worker that joined after a standby took over
+# never ran a frame"): a 2-worker --realtime cluster of the example scene, both workers killed
 # (no --restart-workers, so the coordinator holds the world), the coordinator killed 2 s later, a worker
 # started by hand under id 1 2 s after that. Seen on 2026-12-03: the standby took over, waited out the
 # last worker's 5 s silence, admitted the new worker 1 at once, and that worker never ran a frame: every
-# 5 s it was taken as gone and admitted again, and lpss-watch stopped at the frame of the kill.
+# 5 s it was taken as gone and admitted again, and lpss-watch stopped at the frame of the kill. Since the
+# standby writes the planes' descriptions again when it takes over, the joiner runs to the last frame.
 # LOG_LEVEL=debug sets the hand-started worker's --log-level.
 #   unshare -rn bash -c 'ip link set lo up; tests/tools/takeover_during_hold.sh build'
 set -u
