@@ -230,4 +230,10 @@ inline std::string worker_process(int domain, int id) {
     return "'[l]pss-worker --domain " + std::to_string(domain) + " --id " + std::to_string(id) + " '";
 }
 
+/// The pkill -f pattern of lpss-cluster's coordinator on `domain` (not its standby: the coordinator is the
+/// one that awaits a standby).
+inline std::string primary_coordinator_process(int domain) {
+    return "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+}
+
 }  // namespace lpss::testing

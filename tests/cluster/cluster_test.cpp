@@ -1359,8 +1359,7 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     // Static spheres far from everything, so that the rest of the world stays lpss-sim's: 30 spawns about
     // a frame apart, the coordinator killed after the tenth.
     std::vector<std::pair<BodyId, std::uint64_t>> spawns;  // id, request
-    const std::string coordinator =
-        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    const std::string coordinator = testing::primary_coordinator_process(domain);
     std::uint64_t killed_at = 0;
     Clock::time_point killed;
     for (int n = 0; n < 30; ++n) {
@@ -1453,8 +1452,7 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
     collect_into(*client, frames, 60, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     const std::string standby = "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--standby'";
-    const std::string coordinator =
-        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    const std::string coordinator = testing::primary_coordinator_process(domain);
     // Stopped until the coordinator drops it (its lease past and confirmed), and thawed at once: the
     // coordinator writes a frame start or two without it, fewer than its writer keeps (8), so the standby
     // can still read them all. (A fixed pause is either short of the lease on a slow machine or lets more
@@ -1509,8 +1507,7 @@ TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
     std::map<std::uint64_t, WorldFrame> frames;
     collect_into(*client, frames, 150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    const std::string coordinator =
-        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    const std::string coordinator = testing::primary_coordinator_process(domain);
     const std::uint64_t killed_at = frames.rbegin()->first;
     // The coordinator first: no frame starts after it, so the worker, killed a moment later, has ended the
     // frame the standby takes over from (the path where its sectors are restored as it left them).
@@ -1578,8 +1575,7 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     gather(frames.rbegin()->first + 30, std::chrono::seconds(10));
     const std::uint64_t coordinator_killed_at = frames.rbegin()->first;
     ASSERT_LT(coordinator_killed_at + 100, kFrames) << "time left to run after the takeover";
-    const std::string coordinator =
-        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    const std::string coordinator = testing::primary_coordinator_process(domain);
     ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
     gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
@@ -1617,8 +1613,7 @@ TEST(Cluster, AWorkerJoiningAfterAStandbyTookOverGetsThePlanesAndRuns) {
     std::map<std::uint64_t, WorldFrame> frames;
     collect_into(*client, frames, 100, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    const std::string primary =
-        "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+    const std::string primary = testing::primary_coordinator_process(domain);
     ASSERT_EQ(std::system(("pkill -KILL -f " + primary).c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     collect_into(*client, frames, killed_at + 60, std::chrono::seconds(60));
