@@ -15,16 +15,21 @@ void StandingCommands::add(const wire::Command& c) {
 }
 
 void StandingCommands::forget(const std::string& client, std::uint64_t first, std::uint64_t last) {
-    // Only the newest kMostEarlyAnswers of a run can still be remembered as answered early.
+    // The standing ones of the run, however long it is (a flood is answered in runs of thousands): found by
+    // range, at a cost that follows the commands standing, not the run's length.
+    const auto from = order_of_.lower_bound(Key{client, first});
+    const auto to = order_of_.upper_bound(Key{client, last});
+    std::set<std::uint64_t> standing;
+    for (auto it = from; it != to; ++it) {
+        standing.insert(it->first.second);
+        by_order_.erase(it->second);
+    }
+    order_of_.erase(from, to);
+    // The others may come later: remembered as answered early, only the newest kMostEarlyAnswers.
     if (last - first >= kMostEarlyAnswers) first = last - kMostEarlyAnswers + 1;
     for (std::uint64_t request = first; request <= last; ++request) {
+        if (standing.count(request) != 0) continue;
         Key key{client, request};
-        auto it = order_of_.find(key);
-        if (it != order_of_.end()) {
-            by_order_.erase(it->second);
-            order_of_.erase(it);
-            continue;
-        }
         if (!answered_early_.insert(key).second) continue;
         answered_early_order_.push_back(std::move(key));
         if (answered_early_order_.size() > kMostEarlyAnswers) {
