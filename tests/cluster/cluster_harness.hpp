@@ -3,11 +3,13 @@
 // cluster_test_main.cpp), children stopped and logs kept under the test's temporary folder.
 #pragma once
 
+#include <dirent.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -234,6 +236,36 @@ inline std::string worker_process(int domain, int id) {
 /// one that awaits a standby).
 inline std::string primary_coordinator_process(int domain) {
     return "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
+}
+
+/// The lpss processes of a domain, by pid, with a name: "coordinator", "standby" or "worker N".
+inline std::map<int, std::string> processes_of(int domain) {
+    std::map<int, std::string> out;
+    DIR* proc = opendir("/proc");
+    if (proc == nullptr) return out;
+    while (dirent* entry = readdir(proc)) {
+        const int pid = std::atoi(entry->d_name);
+        if (pid <= 0) continue;
+        std::ifstream in("/proc/" + std::string(entry->d_name) + "/cmdline");
+        std::vector<std::string> args;
+        for (std::string arg; std::getline(in, arg, '\0');)
+            args.push_back(arg);
+        if (args.empty()) continue;
+        auto value_of = [&](const std::string& flag) {
+            auto it = std::find(args.begin(), args.end(), flag);
+            return it != args.end() && std::next(it) != args.end() ? *std::next(it) : std::string();
+        };
+        if (value_of("--domain") != std::to_string(domain)) continue;
+        const std::string program = args[0].substr(args[0].rfind('/') + 1);
+        if (program == "lpss-worker") {
+            out[pid] = "worker " + value_of("--id");
+        } else if (program == "lpss-coordinator") {
+            out[pid] =
+                std::find(args.begin(), args.end(), "--standby") != args.end() ? "standby" : "coordinator";
+        }
+    }
+    closedir(proc);
+    return out;
 }
 
 }  // namespace lpss::testing

@@ -230,96 +230,172 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
 }
 
 TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemory) {
-    // One client sends commands paced at 10^5 a second for 3 s (issue 11's flood) to a coordinator that
-    // takes 1,000 a second from each client (the default). Meanwhile another client sends a command every
-    // 100 ms and waits for its answer. What must hold: every command of the other client is applied within
-    // 2 s; frames never wait a second; every answer the flooder reads names the rate limit or commands lost
-    // on the way (more in flight than its instance keeps), no more are applied than the limit lets through,
-    // and nothing grows with the commands sent. Before the commands reader had a port of its own, the flood
-    // filled the coordinators' one UDP port and frames stalled 1.5-4.2 s; before commands were one instance
-    // per client, the test process grew 21 MiB for 29,000 commands. What it prints and does not bound: the
-    // rate the flooder reached (10,000-19,000 a second on this 2-core machine: one reliable DDS write per
-    // command, to two coordinators).
+    // A peer on the domain writes commands under one client's name, paced at 10^5 a second for 3 s (issue
+    // 11's flood), to a coordinator that takes 1,000 a second from each client (the default). It writes from
+    // two DDS writers in Fast DDS's asynchronous publish mode, whose thread packs many commands into one
+    // datagram: lpss::Client writes each command synchronously, one datagram to each coordinator, and
+    // reached only 10,000-19,000 a second here, so a flood of 10^5 is what a peer, not the client library,
+    // can send. Meanwhile a client sends a command every 100 ms and waits for its answer. What must hold:
+    // every command of that client is applied within 2 s; frames never wait a second; every answer to the
+    // flood names the rate limit or commands lost on the way, no more are applied than the limit lets
+    // through, and the coordinators do not grow with the commands sent (the standby kept the commands of
+    // runs refused at once beyond their newest 4,096, until StandingCommands looked runs up by range).
+    // Before the commands reader had a port of its own, a flood of 10,000 a second filled the coordinators'
+    // one UDP port and frames stalled 1.5-4.2 s.
     const int domain = 161;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(crossing_scene(), "hundred_thousand");
-    auto flooder = connect(domain, "flooder");
     auto other = connect(domain, "other");
-    ASSERT_TRUE(flooder && other);
+    ASSERT_TRUE(other);
+    auto peer = dds::Participant::create(domain, "", "a-peer-flooding-commands");
+    ASSERT_TRUE(peer.ok());
+    dds::fdds::DataWriterQos flood_qos = dds::writer_qos(dds::kCommandDelivery);
+    flood_qos.publish_mode().kind = dds::fdds::ASYNCHRONOUS_PUBLISH_MODE;
+    // Two writers, each in a thread of its own: one writer's writes reached 62,000-72,000 a second here.
+    std::array<std::unique_ptr<dds::Writer<wire::Command>>, 2> flood_out;
+    for (auto& out : flood_out)
+        out = std::make_unique<dds::Writer<wire::Command>>(
+            **peer, (*peer)->topic<wire::CommandPubSubType>(dds::kCommands), flood_qos);
+    dds::Inbox answers_inbox;
+    dds::Reader<wire::CommandResult> answers(
+        **peer, (*peer)->topic<wire::CommandResultPubSubType>(dds::kCommandResults),
+        dds::reader_qos(dds::kResultDelivery), &answers_inbox);
+    ASSERT_TRUE(flood_out[0]->ok() && flood_out[1]->ok() && answers.ok());
     auto cluster = start_cluster(path, domain, 2, 100000, {"--await-clients", "1"});
     ASSERT_TRUE(cluster.process);
     ASSERT_FALSE(collect(*other, 30, std::chrono::seconds(60)).empty());
     using Clock = std::chrono::steady_clock;
-    const std::uint64_t rss_before = memory_use()->resident_bytes;
-    std::atomic<bool> flooding{true};
-    std::atomic<std::uint64_t> sent{0}, first{0}, last{0};
-    std::thread flood([&] {
-        // Paced at 10^5 a second: 1,000 commands every 10 ms.
+    auto coordinators_mib = [&] {
+        std::map<std::string, double> mib;
+        for (const auto& [pid, name] : testing::processes_of(domain)) {
+            if (name.rfind("worker", 0) == 0) continue;
+            if (auto use = memory_use(pid)) mib[name] = double(use->resident_bytes) / (1024.0 * 1024.0);
+        }
+        return mib;
+    };
+    const auto mib_before = coordinators_mib();
+    ASSERT_EQ(mib_before.size(), 2u) << "the coordinator and its standby";
+
+    // The answers to the flood, each standing for a run of requests (first_request to request).
+    const std::string over_rate =
+        "client 'flooder' sends more than 1000 commands a second: refused (rate limit)";
+    std::atomic<bool> flooding{true}, answering{true};
+    std::atomic<std::uint64_t> written{0}, applied{0}, limited{0}, lost{0}, other_reason{0};
+    std::string first_other_reason;
+    std::thread answer_reader([&] {
+        while (answering.load()) {
+            answers_inbox.wait(std::chrono::milliseconds(10));
+            answers.take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
+                if (!info.valid_data || r.client() != "flooder") return;
+                const std::uint64_t run = r.first_request() != 0 ? r.request() - r.first_request() + 1 : 1;
+                if (r.applied()) {
+                    applied += run;
+                } else if (r.reason() == over_rate) {
+                    limited += run;
+                } else if (r.reason().find(" were lost on the way (more than ") != std::string::npos) {
+                    lost += run;
+                } else if (other_reason++ == 0) {
+                    first_other_reason = r.reason();
+                }
+            });
+        }
+    });
+    auto flood = [&](dds::Writer<wire::Command>& out) {
+        // Paced at 5 x 10^4 a second: 500 commands every 10 ms (fewer if the writes take longer). The
+        // writers share the client's request numbers, so that the coordinator reads them about in order.
+        wire::Command c;
+        c.client("flooder");
+        c.kind(wire::kCommandSetVelocity);
+        c.body(1);
         auto next = Clock::now();
         while (flooding.load()) {
-            for (int n = 0; n < 1000; ++n) {
-                const std::uint64_t r =
-                    flooder->set_velocity(1, {1.0 + 1e-6 * double(sent.load()), 0, 0}, {0, 0, 0});
-                if (sent.fetch_add(1) == 0) first = r;
-                last = r;
+            for (int n = 0; n < 500; ++n) {
+                const std::uint64_t request = ++written;
+                c.request(request);
+                c.vector1(dds::to_wire(Eigen::Vector3d(1.0 + 1e-6 * double(request), 0, 0)));
+                out.write(c);
             }
             next += std::chrono::milliseconds(10);
             std::this_thread::sleep_until(next);
         }
-    });
+    };
+    std::thread flood_1(flood, std::ref(*flood_out[0])), flood_2(flood, std::ref(*flood_out[1]));
     const auto flood_start = Clock::now();
     double longest_frame_wait = 0.0, slowest_answer = 0.0;
     int asked = 0, applied_in_time = 0;
     auto previous_frame = Clock::now();
-    while (Clock::now() - flood_start < std::chrono::seconds(3)) {
+    auto poll_frames = [&] {
+        if (!other->poll(std::chrono::milliseconds(2)).empty()) {
+            longest_frame_wait = std::max(
+                longest_frame_wait, std::chrono::duration<double>(Clock::now() - previous_frame).count());
+            previous_frame = Clock::now();
+        }
+    };
+    // LPSS_FLOOD_S: a longer flood, to see memory level off (12 s: the standby grew 7.4 MiB, as in 3 s).
+    const char* flood_s_env = std::getenv("LPSS_FLOOD_S");
+    const auto flood_length = std::chrono::seconds(flood_s_env ? std::atoi(flood_s_env) : 3);
+    while (Clock::now() - flood_start < flood_length) {
         const auto t = Clock::now();
         const std::uint64_t r = other->set_velocity(2, {0, 0, 0}, {0, 0, 0});
         ++asked;
-        while (!other->outcome(r) && Clock::now() - t < std::chrono::seconds(20)) {
-            if (!other->poll(std::chrono::milliseconds(2)).empty()) {
-                longest_frame_wait = std::max(
-                    longest_frame_wait, std::chrono::duration<double>(Clock::now() - previous_frame).count());
-                previous_frame = Clock::now();
-            }
-        }
-        const double took = std::chrono::duration<double>(Clock::now() - t).count();
-        slowest_answer = std::max(slowest_answer, took);
+        while (!other->outcome(r) && Clock::now() - t < std::chrono::seconds(20))
+            poll_frames();
+        slowest_answer = std::max(slowest_answer, std::chrono::duration<double>(Clock::now() - t).count());
         if (other->outcome(r) && other->outcome(r)->applied) ++applied_in_time;
-        while (Clock::now() - t < std::chrono::milliseconds(100)) {
-            if (!other->poll(std::chrono::milliseconds(2)).empty()) {
-                longest_frame_wait = std::max(
-                    longest_frame_wait, std::chrono::duration<double>(Clock::now() - previous_frame).count());
-                previous_frame = Clock::now();
-            }
-        }
+        while (Clock::now() - t < std::chrono::milliseconds(100))
+            poll_frames();
     }
     flooding = false;
-    flood.join();
+    flood_1.join();
+    flood_2.join();
     const double flood_s = std::chrono::duration<double>(Clock::now() - flood_start).count();
-    const double rate = double(sent.load()) / flood_s;
-    flooder->wait_outcome(last, std::chrono::seconds(5));
-    const auto [applied, limited, lost, other_reason] =
-        read_flood_answers(*flooder, "flooder", first, last, 1000);
-    const std::uint64_t rss_after = memory_use()->resident_bytes;
-    const double grew_mib = (double(rss_after) - double(rss_before)) / (1024.0 * 1024.0);
+    // The last commands are answered once the writer's thread has sent them and the coordinator read them:
+    // until the answers stop for a second (those the writer dropped unsent at the end are never answered).
+    const auto drain_end = Clock::now() + std::chrono::seconds(10);
+    for (auto [answered, since] = std::pair(std::uint64_t{0}, Clock::now());
+         Clock::now() - since < std::chrono::seconds(1) && Clock::now() < drain_end;) {
+        poll_frames();
+        if (const std::uint64_t now_answered = applied + limited + lost; now_answered != answered)
+            std::tie(answered, since) = std::pair(now_answered, Clock::now());
+    }
+    answering = false;
+    answer_reader.join();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - flood_start).count();
+    const auto mib_after = coordinators_mib();
+    // Two writers' requests interleave: a gap the coordinator saw and answered as lost may fill later, so
+    // what it received is what it applied or refused for the rate, and the rest never reached it.
+    const double received = double(applied + limited);
     std::printf(
-        "%llu commands in %.2f s (%.0f a second) from the flooder; of the answers it read: %zu applied, %zu "
-        "refused for the rate, %zu lost on the way; the other client: %d of %d applied, the slowest answer "
-        "%.3f s; the longest wait for a frame %.3f s; this process grew %.1f MiB\n",
-        static_cast<unsigned long long>(sent.load()), flood_s, rate, applied, limited, lost, applied_in_time,
-        asked, slowest_answer, longest_frame_wait, grew_mib);
+        "the peer wrote %llu commands in %.2f s (%.0f a second); the coordinator received %.0f of them: "
+        "%llu applied, %llu refused for the rate, the rest lost on the way; the other client: %d of %d "
+        "applied, the "
+        "slowest answer %.3f s; the longest wait for a frame %.3f s; resident memory before and after: "
+        "coordinator %.1f and %.1f MiB, standby %.1f and %.1f MiB\n",
+        static_cast<unsigned long long>(written.load()), flood_s, double(written) / flood_s, received,
+        static_cast<unsigned long long>(applied.load()), static_cast<unsigned long long>(limited.load()),
+        applied_in_time, asked, slowest_answer, longest_frame_wait, mib_before.at("coordinator"),
+        mib_after.at("coordinator"), mib_before.at("standby"), mib_after.at("standby"));
     EXPECT_EQ(applied_in_time, asked);
     EXPECT_LT(slowest_answer, 2.0);
     EXPECT_LT(longest_frame_wait, 1.0);
-    EXPECT_GE(limited + lost, 1u);
-    EXPECT_EQ(other_reason, 0u);
-    EXPECT_LE(static_cast<double>(applied), 1000.0 + 1000.0 * flood_s + 1.0);
+    EXPECT_GE(limited, 1u);
+    EXPECT_EQ(other_reason, 0u) << first_other_reason;
+    EXPECT_LE(double(applied), 1000.0 + 1000.0 * elapsed + 1.0);  // until the last answer
+    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (73,000-99,000 a second
+    // were written in five runs on this machine; the bound leaves room for a loaded one).
+    EXPECT_GT(double(written) / flood_s, 30000.0);
 #if defined(__SANITIZE_ADDRESS__)
     // AddressSanitizer holds freed memory back (its quarantine): resident memory says nothing here, and
     // LeakSanitizer checks what is kept at the end instead (measured: 137 MiB for 27,000 commands).
     std::printf("resident memory not checked under AddressSanitizer\n");
 #else
-    EXPECT_LT(grew_mib, 16.0) << "a command must not be kept once it is read";
+    // The standby holds each command it read until the coordinator's answer comes, which lags under a flood:
+    // up to 22,000 of them at once in a 10 s flood (logged), none 2 s after it; what it grows by is that
+    // high-water mark (5-15 MiB in seven runs). StandingCommands' own tests check that answers free them.
+    EXPECT_LT(mib_after.at("coordinator") - mib_before.at("coordinator"), 16.0)
+        << "a command must not be kept once it is read";
+    EXPECT_LT(mib_after.at("standby") - mib_before.at("standby"), 32.0)
+        << "a command must not be kept once it is answered";
 #endif
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
 }

@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
-#include <dirent.h>
 #include <cstdlib>
 #include <fstream>
 #include <set>
@@ -23,6 +22,7 @@ namespace lpss {
 namespace {
 
 using testing::connect;
+using testing::processes_of;
 using testing::start_cluster;
 using testing::worker_process;
 using testing::write_scene;
@@ -94,37 +94,6 @@ Scene soak_scene() {
         scene.bodies.push_back(box);
     }
     return scene;
-}
-
-/// The lpss processes of a domain, by pid, with a name: "coordinator", "standby" or "worker N".
-std::map<int, std::string> processes_of(int domain) {
-    std::map<int, std::string> out;
-    DIR* proc = opendir("/proc");
-    if (proc == nullptr) return out;
-    const std::string on = "--domain\\0" + std::to_string(domain);
-    while (dirent* entry = readdir(proc)) {
-        const int pid = std::atoi(entry->d_name);
-        if (pid <= 0) continue;
-        std::ifstream in("/proc/" + std::string(entry->d_name) + "/cmdline");
-        std::vector<std::string> args;
-        for (std::string arg; std::getline(in, arg, '\0');)
-            args.push_back(arg);
-        if (args.empty()) continue;
-        auto value_of = [&](const std::string& flag) {
-            auto it = std::find(args.begin(), args.end(), flag);
-            return it != args.end() && std::next(it) != args.end() ? *std::next(it) : std::string();
-        };
-        if (value_of("--domain") != std::to_string(domain)) continue;
-        const std::string program = args[0].substr(args[0].rfind('/') + 1);
-        if (program == "lpss-worker") {
-            out[pid] = "worker " + value_of("--id");
-        } else if (program == "lpss-coordinator") {
-            out[pid] =
-                std::find(args.begin(), args.end(), "--standby") != args.end() ? "standby" : "coordinator";
-        }
-    }
-    closedir(proc);
-    return out;
 }
 
 TEST(Soak, KilledWorkersAndAKilledCoordinatorLoseNoBodyAndNoProcessGrows) {
