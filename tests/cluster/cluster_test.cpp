@@ -368,9 +368,8 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     std::printf(
         "the peer wrote %llu commands in %.2f s (%.0f a second); the coordinator received %.0f of them: "
         "%llu applied, %llu refused for the rate, the rest lost on the way; the other client: %d of %d "
-        "applied, the "
-        "slowest answer %.3f s; the longest wait for a frame %.3f s; resident memory before and after: "
-        "coordinator %.1f and %.1f MiB, standby %.1f and %.1f MiB\n",
+        "applied, the slowest answer %.3f s; the longest wait for a frame %.3f s; resident memory before "
+        "and after: coordinator %.1f and %.1f MiB, standby %.1f and %.1f MiB\n",
         static_cast<unsigned long long>(written.load()), flood_s, double(written) / flood_s, received,
         static_cast<unsigned long long>(applied.load()), static_cast<unsigned long long>(limited.load()),
         applied_in_time, asked, slowest_answer, longest_frame_wait, mib_before.at("coordinator"),
@@ -381,17 +380,18 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     EXPECT_GE(limited, 1u);
     EXPECT_EQ(other_reason, 0u) << first_other_reason;
     EXPECT_LE(double(applied), 1000.0 + 1000.0 * elapsed + 1.0);  // until the last answer
-    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (73,000-99,000 a second
-    // were written in five runs on this machine; the bound leaves room for a loaded one).
-    EXPECT_GT(double(written) / flood_s, 30000.0);
 #if defined(__SANITIZE_ADDRESS__)
     // AddressSanitizer holds freed memory back (its quarantine): resident memory says nothing here, and
     // LeakSanitizer checks what is kept at the end instead (measured: 137 MiB for 27,000 commands).
     std::printf("resident memory not checked under AddressSanitizer\n");
+    std::printf("the flood's rate not checked under AddressSanitizer (it writes 5,600 a second there)\n");
 #else
+    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (73,000-99,000 a second
+    // were written in nine runs on this machine; the bound leaves room for a loaded one).
+    EXPECT_GT(double(written) / flood_s, 30000.0);
     // The standby holds each command it read until the coordinator's answer comes, which lags under a flood:
     // up to 22,000 of them at once in a 10 s flood (logged), none 2 s after it; what it grows by is that
-    // high-water mark (5-15 MiB in seven runs). StandingCommands' own tests check that answers free them.
+    // high-water mark (3-15 MiB in nine runs). StandingCommands' own tests check that answers free them.
     EXPECT_LT(mib_after.at("coordinator") - mib_before.at("coordinator"), 16.0)
         << "a command must not be kept once it is read";
     EXPECT_LT(mib_after.at("standby") - mib_before.at("standby"), 32.0)
