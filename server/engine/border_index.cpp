@@ -120,7 +120,6 @@ void BorderIndex::remove(std::uint32_t slot) {
 }
 
 void BorderIndex::place_leaves(std::uint32_t slot) {
-    remove_leaves(slot);
     BorderEntry& rec = bodies_[slot].border;
     const double size = sector_size_;
     std::int64_t lo[3], hi[3];
@@ -130,22 +129,54 @@ void BorderIndex::place_leaves(std::uint32_t slot) {
         hi[a] = static_cast<std::int64_t>(std::min(4.0, std::floor(rec.fat.max[a] / size + 0.5)));
     }
     const SectorKey owner = rec.fat_frame;
+    // The cells within lo..hi of the owner's, but its own (found through the broadphase). Compared key by
+    // key, not by difference: a leaf's cell can be as far from a new owner as a teleported body went.
+    auto wanted = [&](const SectorKey& cell) {
+        return !(cell == owner) && cell.i >= owner.i + lo[0] && cell.i <= owner.i + hi[0] &&
+               cell.j >= owner.j + lo[1] && cell.j <= owner.j + hi[1] && cell.k >= owner.k + lo[2] &&
+               cell.k <= owner.k + hi[2] && in_range(cell);
+    };
+    auto leaf_volume = [&](const SectorKey& cell) {
+        return volume(rec.fat.translated(grid_.centre_offset(cell, owner)));
+    };
+    // A refreshed fat box mostly enters the cells it entered before: those leaves move within their trees
+    // (no node allocated or freed, one tree lookup); the others go, and the new cells get leaves. Which
+    // tree holds which leaf decides nothing but the cost: candidates are sorted before use.
+    const bool had_leaves = !rec.leaves.empty();
+    std::size_t kept = 0;
+    for (std::size_t n = 0; n < rec.leaves.size(); ++n) {
+        BorderEntry::Leaf leaf = rec.leaves[n];
+        auto it = cell_trees_.find(leaf.cell);
+        if (wanted(leaf.cell)) {
+            btDbvtVolume box = leaf_volume(leaf.cell);
+            it->second->tree.update(leaf.node, box);
+            rec.leaves[kept++] = leaf;
+        } else {
+            it->second->tree.remove(leaf.node);
+            if (it->second->tree.empty()) cell_trees_.erase(it);
+        }
+    }
+    const std::size_t moved = kept;
+    rec.leaves.resize(kept);
     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
         for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
             for (std::int64_t k = lo[2]; k <= hi[2]; ++k) {
-                if (i == 0 && j == 0 && k == 0) continue;  // its own cell: found through the broadphase
                 const SectorKey cell = owner + SectorKey{i, j, k};
-                if (!in_range(cell)) continue;
+                if (!wanted(cell)) continue;
+                const auto moved_end = rec.leaves.begin() + static_cast<std::ptrdiff_t>(moved);
+                if (std::any_of(rec.leaves.begin(), moved_end,
+                                [&](const BorderEntry::Leaf& leaf) { return leaf.cell == cell; }))
+                    continue;
                 std::unique_ptr<CellTree>& tree = cell_trees_[cell];
                 if (!tree) tree = std::make_unique<CellTree>();
-                const Aabb box = rec.fat.translated(grid_.centre_offset(cell, owner));
                 btDbvtNode* node =
-                    tree->tree.insert(volume(box), reinterpret_cast<void*>(std::uintptr_t{slot}));
+                    tree->tree.insert(leaf_volume(cell), reinterpret_cast<void*>(std::uintptr_t{slot}));
                 rec.leaves.push_back({cell, node});
             }
         }
     }
-    if (!rec.leaves.empty()) ++border_bodies_;
+    if (had_leaves && rec.leaves.empty()) --border_bodies_;
+    if (!had_leaves && !rec.leaves.empty()) ++border_bodies_;
 }
 
 void BorderIndex::remove_leaves(std::uint32_t slot) {

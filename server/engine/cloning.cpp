@@ -48,7 +48,6 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
             }
         });
     }
-    requirements.clear();
     if (options.monolithic) return;
     if (step_set.empty()) {
         bool awake_ghost = false;
@@ -65,13 +64,24 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
     // Every dynamic body of a stepped sector needs, there, a clone of each partner its reach meets; for
     // the awake sectors that is found in the same pass over their pairs (`host`: the sector the body is
     // stepped in, none for a ghost).
+    // A clone required in a stepped sector: confirmed if it is there, else created below. Confirming twice
+    // is harmless, so pairs are not sorted and made unique first (a sort of every pair met was a tenth of
+    // the stage with half the bodies on borders); only the missing ones are.
+    missing_scratch.clear();
+    auto require = [&](SectorId host, std::uint32_t other) {
+        if (Clone* clone = record(other).clone_in(host)) {
+            clone->confirmed_frame = frame;
+        } else {
+            missing_scratch.emplace_back(host, other);
+        }
+    };
     auto visit_pairs = [&](std::uint32_t slot, SectorId host) {
         const BodyRecord& rec = record(slot);
         if (!rec.dynamic) return;
         const bool pushes = rec.rb->isActive();
         for (std::uint32_t other : border.partners(slot)) {
             if (!border.reaches_meet(slot, other, frame)) continue;
-            if (host.valid()) requirements.emplace_back(host, other);
+            if (host.valid()) require(host, other);
             const BodyRecord& partner = record(other);
             if (!pushes || !partner.dynamic) continue;
             Sector& target = sector_of(partner);
@@ -99,29 +109,19 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
         for (std::uint32_t slot : border.partnered(sectors.at(id))) {
             if (!record(slot).dynamic) continue;
             for (std::uint32_t other : border.partners(slot)) {
-                if (border.reaches_meet(slot, other, frame)) requirements.emplace_back(id, other);
+                if (border.reaches_meet(slot, other, frame)) require(id, other);
             }
         }
     }
 
-    // Bring each stepped sector's clones to what is required: confirm the existing ones, create the
-    // missing ones (in sector key and slot order, so that runs are reproducible), and release the
-    // clones nobody needs any more.
-    std::sort(requirements.begin(), requirements.end());
-    requirements.erase(std::unique(requirements.begin(), requirements.end()), requirements.end());
-    missing_scratch.clear();
-    for (auto [target, slot] : requirements) {
-        if (!sectors.at(target).stepping) continue;
-        if (Clone* clone = record(slot).clone_in(target)) {
-            clone->confirmed_frame = frame;
-        } else {
-            missing_scratch.emplace_back(target, slot);
-        }
-    }
+    // Bring each stepped sector's clones to what is required: the existing ones were confirmed above;
+    // create the missing ones (once each, in sector key and slot order, so that runs are reproducible), and
+    // release the clones nobody needs any more.
     std::sort(missing_scratch.begin(), missing_scratch.end(), [&](const auto& a, const auto& b) {
         if (a.first != b.first) return sectors.at(a.first).key < sectors.at(b.first).key;
         return a.second < b.second;
     });
+    missing_scratch.erase(std::unique(missing_scratch.begin(), missing_scratch.end()), missing_scratch.end());
     for (auto [target, slot] : missing_scratch)
         create_clone(slot, sectors.at(target));
     for (SectorId id : step_set) {

@@ -118,8 +118,7 @@ struct World::Impl {
 
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;
-    std::vector<std::pair<engine::SectorId, std::uint32_t>> missing_scratch;
-    std::vector<std::pair<engine::SectorId, std::uint32_t>> requirements;
+    std::vector<std::pair<engine::SectorId, std::uint32_t>> missing_scratch;  ///< clones to create this frame
 
     engine::ContactTracker contacts;  ///< touching pairs over every sector, and the events they make
 
