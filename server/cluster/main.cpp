@@ -203,16 +203,23 @@ int main(int argc, char** argv) {
     auto first_time = start;
     std::uint64_t printed_frame = 0;
     // Memory of every process, as the kernel counts it: resident now, and the most each has held.
-    auto memory = [&]() {
+    // The memory of every process there, or none if one of them could not be read: at the end they go
+    // one by one, and one read as it went counted 0 MiB (seen: "standby 0" in the example's last line, the
+    // standby gone between a check that it was there and the reading).
+    auto memory = [&]() -> std::optional<std::string> {
         std::vector<std::pair<std::string, lpss::MemoryUse>> all;
-        if (coordinator->running())
-            all.emplace_back("coordinator", lpss::memory_use(coordinator->pid()).value_or(lpss::MemoryUse{}));
-        if (standby && standby->running())
-            all.emplace_back(taken_over ? "coordinator (was standby)" : "standby",
-                             lpss::memory_use(standby->pid()).value_or(lpss::MemoryUse{}));
-        for (std::size_t n = 0; n < children.size(); ++n)
-            all.emplace_back(fmt::format("worker {}", n + 1),
-                             lpss::memory_use(children[n].pid()).value_or(lpss::MemoryUse{}));
+        auto add = [&](std::string name, const ChildProcess& process) {
+            const std::optional<lpss::MemoryUse> use = lpss::memory_use(process.pid());
+            if (use) all.emplace_back(std::move(name), *use);
+            return use.has_value();
+        };
+        if (coordinator->running() && !add("coordinator", *coordinator)) return std::nullopt;
+        if (standby && standby->running() &&
+            !add(taken_over ? "coordinator (was standby)" : "standby", *standby))
+            return std::nullopt;
+        for (std::size_t n = 0; n < children.size(); ++n) {
+            if (!add(fmt::format("worker {}", n + 1), children[n])) return std::nullopt;
+        }
         std::uint64_t total = 0, peak = 0, shared = 0;
         std::string now, most;
         for (const auto& [name, use] : all) {
@@ -289,16 +296,10 @@ int main(int argc, char** argv) {
             std::fflush(stdout);
         });
         if (last_frame > memory_frame && Clock::now() - memory_taken > std::chrono::milliseconds(200)) {
-            // Only while every process is there: at the end they go one by one.
-            bool all = lpss::memory_use(active->pid()).has_value();
-            // The standby too: it ends first when the world does, and a sample taken as it went counted it
-            // as 0 MiB (seen in cluster-scale at a million bodies).
-            if (standby && !taken_over && !standby_gone)
-                all = all && lpss::memory_use(standby->pid()).has_value();
-            for (ChildProcess& c : children)
-                all = all && lpss::memory_use(c.pid()).has_value();
-            if (all) {
-                memory_at_frame = memory();
+            // Only while every process is there (the standby too: it ends first when the world does).
+            const bool standby_went = standby && !taken_over && !standby_gone && !standby->running();
+            if (std::optional<std::string> line = standby_went ? std::nullopt : memory()) {
+                memory_at_frame = std::move(*line);
                 memory_frame = last_frame;
                 memory_taken = Clock::now();
             }

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -2321,6 +2323,18 @@ TEST(Cluster, TheExamplesRunAgainstTheExampleScene) {
     // Only the group 1e9 out lies astride a sector border (x = 1e9 + 64): if its two sectors have two
     // owners, each of its six bodies may be a ghost in the other worker. Every body everywhere would be 18.
     EXPECT_LE(ghosts, 6u) << summary;
+    // The last memory line names every process with what it held: a process read as it went had been
+    // counted 0 MiB (seen: "standby 0" in the example's last line on a fresh machine).
+    std::smatch memory;
+    ASSERT_TRUE(std::regex_search(summary, memory,
+                                  std::regex(R"(memory at frame [0-9]+: [0-9]+ MiB resident \(([^;]*);)")))
+        << summary;
+    const std::string listed = memory[1];
+    for (const char* process : {"coordinator ", "standby ", "worker 1 ", "worker 2 "}) {
+        const std::size_t at = listed.find(process);
+        ASSERT_NE(at, std::string::npos) << process << "missing from: " << listed;
+        EXPECT_GT(std::stod(listed.substr(at + std::strlen(process))), 0.0) << listed;
+    }
 }
 
 TEST(Cluster, NothingLeavesThisMachineWithTheBuiltInProfile) {
