@@ -50,6 +50,7 @@ Coordinator::~Coordinator() {
     state_->results_out.reset();
     state_->marks_out.reset();
     state_->sectors_out.reset();
+    state_->first_state_out.reset();
     state_->status_out.reset();
     state_->marks_in.reset();
     state_->commands_in.reset();
@@ -110,6 +111,10 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
     state->sectors_out =
         std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
+    // Made with the others, so that the workers there have matched it by the time the scene is read.
+    if (!options.standby)
+        state->first_state_out =
+            std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
     state->marks_in =
@@ -121,8 +126,9 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         p, sectors, reader_qos(kSectorFrameReading), &state->inbox);
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
         !state->results_out->ok() || !state->marks_out->ok() || !state->sectors_out->ok() ||
-        !state->status_out->ok() || !state->marks_in->ok() || !state->commands_in->ok() ||
-        !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
+        (state->first_state_out && !state->first_state_out->ok()) || !state->status_out->ok() ||
+        !state->marks_in->ok() || !state->commands_in->ok() || !state->sectors_in->ok() ||
+        !state->go_in->ok() || !state->acks_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
     }
     // Beats within the lease, as workers' marks: a standby takes over when the coordinator's lapse.
@@ -495,7 +501,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         }
         sample.recipients(recipients(key, sample.bodies(), radii, current));
         radii.clear();
-        sectors_out->write(sample);
+        first_state_out->write(sample);
         mirror.apply({&sample});
         chain.accept(sample);  // the base of the workers' first samples of the sector
         wire::WrittenSector entry;
@@ -1022,15 +1028,24 @@ void Coordinator::State::release_history(std::uint64_t f) {
     // readers after its lease, 20 s by default) or stalled; should it come back, it asks the sectors' owners
     // for them whole, as a reader that joins late does.
     constexpr auto kKeptAtMost = std::chrono::seconds(25);
-    const bool acknowledged = sectors_out->raw()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
-                                  0, 0)) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    auto acknowledged_by_all = [](dds::Writer<wire::SectorFrame>& writer) {
+        return writer.raw()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) ==
+               eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    };
+    const bool acknowledged =
+        acknowledged_by_all(*sectors_out) && (!first_state_out || acknowledged_by_all(*first_state_out));
     if (!acknowledged && Clock::now() - history_written_at < kKeptAtMost) return;
     std::size_t removed = 0;
     sectors_out->raw()->clear_history(&removed);
+    // The first state's writer goes with what it held: its history and its copy of each sector's first
+    // sample. Its readers lose a writer that will write nothing more.
+    const bool first_state = first_state_out != nullptr;
+    first_state_out.reset();
     spdlog::info(
         "coordinator: {} written from frame {} on ({} samples) leave the writer's history after frame {}: {}",
-        *history_from == 0 ? "the world's first state and the sectors" : "the sectors", *history_from,
-        removed, f, acknowledged ? "every reader has them" : "a reader has not acknowledged them in 25 s");
+        first_state ? "the world's first state and the sectors" : "the sectors", *history_from,
+        first_state ? std::string("all") : std::to_string(removed), f,
+        acknowledged ? "every reader has them" : "a reader has not acknowledged them in 25 s");
     history_from.reset();
     runtime::give_back_free_memory();
 }

@@ -41,10 +41,17 @@ struct Coordinator::State {
     std::unique_ptr<dds::Writer<wire::CommandResult>> results_out;
     std::unique_ptr<dds::Writer<wire::WorkerFrame>>
         marks_out;  ///< as worker 0, when it writes sectors itself
-    /// The world's first state, and the sectors of a worker that is gone. Its history serves them to readers
+    /// The sectors of a worker that is gone (and whole sectors asked for). Its history serves them to readers
     /// that join or fall behind until every reader has them (see release_history).
     std::unique_ptr<dds::Writer<wire::SectorFrame>> sectors_out;
-    /// The frame of the oldest samples in sectors_out's history still to be released (none: all released),
+    /// The world's first state, through a writer of its own that goes once every reader has it: Fast DDS 2.9
+    /// keeps a copy of the first sample of each instance a writer writes for as long as the writer lives
+    /// (DataWriterHistory::find_or_add_key), and a sector's first sample here is the whole sector: 21 MB
+    /// at 100,000 bodies (heaptrack), most of what the coordinator held beyond its standby. None as a
+    /// standby, and none once released.
+    std::unique_ptr<dds::Writer<wire::SectorFrame>> first_state_out;
+    /// The frame of the oldest samples in sectors_out's (or first_state_out's) history still to be released
+    /// (none: all released),
     /// and when they were written. The first state is 380 bytes a body (537 MiB at a million bodies); the
     /// sectors restored after a death are as much per body restored, eight samples deep per sector: kept,
     /// they held up to eight copies of the restored part of the world after a few deaths (measured: 0.8 MB
