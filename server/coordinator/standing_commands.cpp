@@ -19,16 +19,20 @@ void StandingCommands::forget(const std::string& client, std::uint64_t first, st
     // range, at a cost that follows the commands standing, not the run's length.
     const auto from = order_of_.lower_bound(Key{client, first});
     const auto to = order_of_.upper_bound(Key{client, last});
-    std::set<std::uint64_t> standing;
+    standing_scratch_.clear();  // in increasing request order, as the map holds them
     for (auto it = from; it != to; ++it) {
-        standing.insert(it->first.second);
+        standing_scratch_.push_back(it->first.second);
         by_order_.erase(it->second);
     }
     order_of_.erase(from, to);
     // The others may come later: remembered as answered early, only the newest kMostEarlyAnswers.
     if (last - first >= kMostEarlyAnswers) first = last - kMostEarlyAnswers + 1;
+    auto next_standing = std::lower_bound(standing_scratch_.begin(), standing_scratch_.end(), first);
     for (std::uint64_t request = first; request <= last; ++request) {
-        if (standing.count(request) != 0) continue;
+        if (next_standing != standing_scratch_.end() && *next_standing == request) {
+            ++next_standing;
+            continue;
+        }
         Key key{client, request};
         if (!answered_early_.insert(key).second) continue;
         answered_early_order_.push_back(std::move(key));

@@ -41,6 +41,7 @@ private:
     std::set<Key> answered_early_;
     std::deque<Key> answered_early_order_;  ///< oldest first, to bound answered_early_
     std::unordered_map<std::string, std::uint64_t> newest_;
+    std::vector<std::uint64_t> standing_scratch_;  ///< forget's, kept to avoid allocation per answer
 };
 
 }  // namespace lpss::coordinator

@@ -146,14 +146,12 @@ void BorderIndex::place_leaves(std::uint32_t slot) {
     std::size_t kept = 0;
     for (std::size_t n = 0; n < rec.leaves.size(); ++n) {
         BorderEntry::Leaf leaf = rec.leaves[n];
-        auto it = cell_trees_.find(leaf.cell);
         if (wanted(leaf.cell)) {
             btDbvtVolume box = leaf_volume(leaf.cell);
-            it->second->tree.update(leaf.node, box);
+            cell_trees_.at(leaf.cell)->tree.update(leaf.node, box);
             rec.leaves[kept++] = leaf;
         } else {
-            it->second->tree.remove(leaf.node);
-            if (it->second->tree.empty()) cell_trees_.erase(it);
+            remove_leaf(leaf);
         }
     }
     const std::size_t moved = kept;
@@ -182,12 +180,15 @@ void BorderIndex::place_leaves(std::uint32_t slot) {
 void BorderIndex::remove_leaves(std::uint32_t slot) {
     BorderEntry& rec = bodies_[slot].border;
     if (!rec.leaves.empty()) --border_bodies_;
-    for (const BorderEntry::Leaf& leaf : rec.leaves) {
-        auto it = cell_trees_.find(leaf.cell);
-        it->second->tree.remove(leaf.node);
-        if (it->second->tree.empty()) cell_trees_.erase(it);
-    }
+    for (const BorderEntry::Leaf& leaf : rec.leaves)
+        remove_leaf(leaf);
     rec.leaves.clear();
+}
+
+void BorderIndex::remove_leaf(const BorderEntry::Leaf& leaf) {
+    auto it = cell_trees_.find(leaf.cell);
+    it->second->tree.remove(leaf.node);
+    if (it->second->tree.empty()) cell_trees_.erase(it);  // no tree kept for a cell nobody reaches into
 }
 
 bool BorderIndex::fat_overlap(const BorderEntry& a, const BorderEntry& b) const {

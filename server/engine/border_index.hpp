@@ -71,6 +71,8 @@ private:
     const Aabb& current_reach(std::uint32_t slot, std::uint64_t frame);
     void place_leaves(std::uint32_t slot);
     void remove_leaves(std::uint32_t slot);
+    /// Takes one leaf out of its cell's tree, and the tree out of the index once it is empty.
+    void remove_leaf(const BorderEntry::Leaf& leaf);
     void refresh_pairs(std::uint32_t slot);
     void drop_pairs(std::uint32_t slot);
     /// Lists a body among its sector's partnered originals, or takes it off, as its partners and its

@@ -140,6 +140,18 @@ void compare_with_sim(int workers, int domain) {
 
 TEST(Cluster, OneWorkerMatchesLpssSimBitForBit) { compare_with_sim(1, 120); }
 
+/// What an answer to a flooding client's command says: applied, refused for the rate (as the coordinator
+/// words it for client `name` at `rate` a second), lost on the way, or something else.
+enum class FloodAnswer { applied, limited, lost, other };
+FloodAnswer flood_answer(bool applied, const std::string& reason, const std::string& name, int rate) {
+    if (applied) return FloodAnswer::applied;
+    const std::string over_rate = "client '" + name + "' sends more than " + std::to_string(rate) +
+                                  " commands a second: refused (rate limit)";
+    if (reason.find(over_rate) != std::string::npos) return FloodAnswer::limited;
+    if (reason.find(" were lost on the way (more than ") != std::string::npos) return FloodAnswer::lost;
+    return FloodAnswer::other;
+}
+
 /// What a flooding client read of the answers to its requests [first, last], by kind; each unexpected
 /// reason is a test failure.
 struct FloodAnswers {
@@ -147,21 +159,24 @@ struct FloodAnswers {
 };
 FloodAnswers read_flood_answers(Client& flooder, const std::string& name, std::uint64_t first,
                                 std::uint64_t last, int rate) {
-    const std::string over_rate = "client '" + name + "' sends more than " + std::to_string(rate) +
-                                  " commands a second: refused (rate limit)";
     FloodAnswers got;
     for (std::uint64_t r = first; r <= last; ++r) {
         auto o = flooder.outcome(r);
         if (!o) continue;
-        if (o->applied) {
-            ++got.applied;
-        } else if (o->reason.find(over_rate) != std::string::npos) {
-            ++got.limited;
-        } else if (o->reason.find(" were lost on the way (more than ") != std::string::npos) {
-            ++got.lost;
-        } else {
-            ++got.other_reason;
-            ADD_FAILURE() << "request " << r << ": " << o->reason;
+        switch (flood_answer(o->applied, o->reason, name, rate)) {
+            case FloodAnswer::applied:
+                ++got.applied;
+                break;
+            case FloodAnswer::limited:
+                ++got.limited;
+                break;
+            case FloodAnswer::lost:
+                ++got.lost;
+                break;
+            case FloodAnswer::other:
+                ++got.other_reason;
+                ADD_FAILURE() << "request " << r << ": " << o->reason;
+                break;
         }
     }
     return got;
@@ -287,8 +302,6 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     ASSERT_EQ(mib_before.size(), 2u) << "the coordinator and its standby";
 
     // The answers to the flood, each standing for a run of requests (first_request to request).
-    const std::string over_rate = "client 'flooder' sends more than " + std::to_string(rate) +
-                                  " commands a second: refused (rate limit)";
     std::atomic<bool> flooding{true}, answering{true};
     std::atomic<std::uint64_t> requests{0}, written{0}, applied{0}, limited{0}, lost{0}, other_reason{0};
     std::string first_other_reason;
@@ -298,14 +311,19 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
             answers.take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
                 if (!info.valid_data || r.client() != "flooder") return;
                 const std::uint64_t run = r.first_request() != 0 ? r.request() - r.first_request() + 1 : 1;
-                if (r.applied()) {
-                    applied += run;
-                } else if (r.reason() == over_rate) {
-                    limited += run;
-                } else if (r.reason().find(" were lost on the way (more than ") != std::string::npos) {
-                    lost += run;
-                } else if (other_reason++ == 0) {
-                    first_other_reason = r.reason();
+                switch (flood_answer(r.applied(), r.reason(), "flooder", rate)) {
+                    case FloodAnswer::applied:
+                        applied += run;
+                        break;
+                    case FloodAnswer::limited:
+                        limited += run;
+                        break;
+                    case FloodAnswer::lost:
+                        lost += run;
+                        break;
+                    case FloodAnswer::other:
+                        if (other_reason++ == 0) first_other_reason = r.reason();
+                        break;
                 }
             });
         }
