@@ -3,6 +3,8 @@
 // Each test uses a DDS domain of its own.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -264,15 +266,28 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     const std::string path = write_scene(crossing_scene(), "hundred_thousand");
     auto other = connect(domain, "other");
     ASSERT_TRUE(other);
-    auto peer = dds::Participant::create(domain, "", "a-peer-flooding-commands");
+    // The peer stands for a process on another machine: its threads (the flood's and those Fast DDS starts
+    // for its participant, which inherit the priority of the thread that makes it) run at the lowest CPU
+    // priority, so that what is measured is the flood arriving at the coordinator's socket, not a local
+    // process taking the cluster's CPU (which no defence on the wire can answer). At equal priority on a CI
+    // runner held to two CPUs' quota, the whole cluster ran at 17 frames a second and an answer took 4.9 s.
+    auto lowest_priority = [] { ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 19); };
+    Expected<std::unique_ptr<dds::Participant>> peer = Error{"not made"};
+    std::thread([&] {
+        lowest_priority();
+        peer = dds::Participant::create(domain, "", "a-peer-flooding-commands");
+    }).join();
     ASSERT_TRUE(peer.ok());
     dds::fdds::DataWriterQos flood_qos = dds::writer_qos(dds::kCommandDelivery);
     flood_qos.publish_mode().kind = dds::fdds::ASYNCHRONOUS_PUBLISH_MODE;
     // Two writers, each in a thread of its own: one writer's writes reached 62,000-72,000 a second here.
     std::array<std::unique_ptr<dds::Writer<wire::Command>>, 2> flood_out;
-    for (auto& out : flood_out)
-        out = std::make_unique<dds::Writer<wire::Command>>(
-            **peer, (*peer)->topic<wire::CommandPubSubType>(dds::kCommands), flood_qos);
+    std::thread([&] {
+        lowest_priority();  // the asynchronous writers' thread starts with the first of them
+        for (auto& out : flood_out)
+            out = std::make_unique<dds::Writer<wire::Command>>(
+                **peer, (*peer)->topic<wire::CommandPubSubType>(dds::kCommands), flood_qos);
+    }).join();
     dds::Inbox answers_inbox;
     dds::Reader<wire::CommandResult> answers(
         **peer, (*peer)->topic<wire::CommandResultPubSubType>(dds::kCommandResults),
@@ -337,6 +352,7 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
         c.client("flooder");
         c.kind(wire::kCommandSetVelocity);
         c.body(1);
+        lowest_priority();
         auto next = Clock::now();
         while (flooding.load()) {
             for (int n = 0; n < 500; ++n) {
@@ -417,9 +433,10 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     std::printf("resident memory not checked under AddressSanitizer\n");
     std::printf("the flood's rate not checked under AddressSanitizer (it writes 5,600 a second there)\n");
 #else
-    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (73,000-99,000 a second
-    // were written in nine runs on this machine; the bound leaves room for a loaded one).
-    EXPECT_GT(double(written) / flood_s, 30000.0);
+    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (10,000-19,000 a second).
+    // At the lowest priority the peer wrote 46,000-57,000 a second on this machine, 23,000-25,000 under a
+    // quota of one CPU (a cgroup's cpu.cfs_quota_us); at equal priority 73,000-99,000.
+    EXPECT_GT(double(written) / flood_s, 20000.0);
     // The standby holds each command it read until the coordinator's answer comes, which lags under a flood:
     // up to 22,000 of them at once in a 10 s flood (logged), none 2 s after it; what it grows by is that
     // high-water mark (3-15 MiB in nine runs). StandingCommands' own tests check that answers free them.
