@@ -29,4 +29,19 @@ std::optional<MemoryUse> memory_use(pid_t pid) {
     return use;
 }
 
+std::optional<std::uint64_t> proportional_resident_bytes(pid_t pid) {
+    const std::string path =
+        pid == 0 ? "/proc/self/smaps_rollup" : "/proc/" + std::to_string(pid) + "/smaps_rollup";
+    std::FILE* file = std::fopen(path.c_str(), "r");
+    if (file == nullptr) return std::nullopt;
+    std::optional<std::uint64_t> bytes;
+    char line[256];
+    while (!bytes && std::fgets(line, sizeof line, file) != nullptr) {
+        unsigned long long kib = 0;
+        if (std::sscanf(line, "Pss: %llu kB", &kib) == 1) bytes = kib * 1024;
+    }
+    std::fclose(file);
+    return bytes;
+}
+
 }  // namespace lpss

@@ -76,9 +76,11 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
                    1e3 * sum / static_cast<double>(after.size()), p99 * 1e3);
     }
     if (const std::optional<lpss::MemoryUse> m = lpss::memory_use()) {
-        fmt::print("memory       {:.1f} MiB resident at the end, {:.1f} MiB at most\n",
-                   static_cast<double>(m->resident_bytes) / 1048576.0,
-                   static_cast<double>(m->peak_bytes) / 1048576.0);
+        fmt::print(
+            "memory       {:.1f} MiB resident at the end, {:.1f} MiB at most; proportional set {:.1f} MiB\n",
+            static_cast<double>(m->resident_bytes) / 1048576.0,
+            static_cast<double>(m->peak_bytes) / 1048576.0,
+            static_cast<double>(lpss::proportional_resident_bytes().value_or(0)) / 1048576.0);
     }
     std::vector<lpss::BodySnapshot> bodies = world.snapshot();
     const std::size_t shown = std::min<std::size_t>(bodies.size(), 12);

@@ -63,7 +63,7 @@ double p99(std::vector<double> v) {
 }
 
 struct SimRun {
-    double load_s = 0, first_frame_ms = 0, mean_ms = 0, p99_ms = 0, rss_mib = 0, peak_mib = 0;
+    double load_s = 0, first_frame_ms = 0, mean_ms = 0, p99_ms = 0, rss_mib = 0, peak_mib = 0, pss_mib = 0;
 };
 
 SimRun run_sim(const std::filesystem::path& scene, std::uint64_t frames, const std::filesystem::path& logs) {
@@ -81,15 +81,17 @@ SimRun run_sim(const std::filesystem::path& scene, std::uint64_t frames, const s
     r.p99_ms = find_number(text, R"(mean [0-9.]+ ms, p99 ([0-9.]+) ms)");
     r.rss_mib = find_number(text, R"(memory\s+([0-9.]+) MiB resident)");
     r.peak_mib = find_number(text, R"(resident at the end, ([0-9.]+) MiB at most)");
+    r.pss_mib = find_number(text, R"(proportional set ([0-9.]+) MiB)");
     return r;
 }
 
 struct ClusterRun {
     double first_frame_s = 0, mean_ms = 0, p99_ms = 0, rss_mib = 0, peak_mib = 0;
-    double bytes_max = 0, bytes_mean = 0;        ///< per worker per frame (max over workers, mean over them)
-    double held_share = 0;                       ///< bodies and ghosts of the busiest worker, over all bodies
-    double step_max_ms = 0, publish_max_ms = 0;  ///< per frame, mean over frames, the busiest worker
-    std::string memory;                          ///< lpss-cluster's memory line
+    double pss_mib = 0;                    ///< the processes' proportional sets together, near the last frame
+    double bytes_max = 0, bytes_mean = 0;  ///< per worker per frame (max over workers, mean over them)
+    double held_share = 0;                 ///< bodies and ghosts of the busiest worker, over all bodies
+    double step_max_ms = 0, publish_max_ms = 0;        ///< per frame, mean over frames, the busiest worker
+    std::string memory;                                ///< lpss-cluster's memory line
     double coordinator_mib = 0, first_worker_mib = 0;  ///< resident at the last frame
     /// A whole-world client of changes (lpss-watch) beside the cluster, if asked for: its memory at the
     /// end, and the frames it returned.
@@ -188,6 +190,7 @@ ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, i
     r.first_worker_mib = find_number(text, R"(memory at frame [0-9]+: [^\n]*worker 1 ([0-9.]+))");
     r.rss_mib = find_number(text, R"(memory at frame [0-9]+: ([0-9.]+) MiB resident)");
     r.peak_mib = find_number(text, R"(\), ([0-9.]+) MiB at most)");
+    r.pss_mib = find_number(text, R"(memory at frame [^\n]*counted once\) ([0-9.]+) MiB at frame)");
     std::smatch line;
     if (std::regex_search(text, line, std::regex(R"(memory at frame [^\n]*)"))) r.memory = line.str();
     return r;
@@ -211,6 +214,9 @@ void run_cluster_scale(const Context& context) {
                  "rss_mib",
                  "sim_rss_mib",
                  "rss_ratio",
+                 "pss_mib",
+                 "sim_pss_mib",
+                 "pss_ratio",
                  "peak_mib",
                  "sim_peak_mib",
                  "bytes_per_worker_frame_max",
@@ -266,6 +272,9 @@ void run_cluster_scale(const Context& context) {
                        num(c.rss_mib, 5),
                        num(sim.rss_mib, 5),
                        num(c.rss_mib / sim.rss_mib, 3),
+                       num(c.pss_mib, 5),
+                       num(sim.pss_mib, 5),
+                       num(c.pss_mib / sim.pss_mib, 3),
                        num(c.peak_mib, 5),
                        num(sim.peak_mib, 5),
                        num(c.bytes_max, 5),
@@ -309,7 +318,9 @@ void run_cluster_scale(const Context& context) {
             "scene and building its world. ms_per_frame, p99_ms: time between frames ended by every "
             "worker, frames 2 on; sim_: lpss-sim's frames 2 on; frame_budget_ms: 1.5 x lpss-sim's mean "
             "+ 1 ms, the target. rss_mib: the resident memory of every process together, taken at the "
-            "last frame (lpss-cluster's report); peak_mib: the sum of each process's most. "
+            "last frame (lpss-cluster's report); pss_mib: the processes' proportional sets together (Pss: a "
+            "page n processes share counted 1/n, so each library's code once), near the last frame; "
+            "peak_mib: the sum of each process's most. "
             "bytes_per_worker_frame: serialized sector samples a worker received per frame (mean over "
             "frames; the busiest worker, and the mean over workers). held_share_max: bodies and ghosts "
             "of the worker holding most, over the world's bodies. step_ms_max, publish_ms_max: the "
@@ -358,15 +369,21 @@ set ytics autofreq
 set key default
 set key top right font ',8'
 set ylabel 'all processes / lpss-sim'
-set title 'Memory: resident, all processes together, over lpss-sim'
+set title 'Memory, all processes over lpss-sim: resident (solid), shared pages once (dashed)'
+set key top right font ',8' maxrows 3
 plot '$CSV' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
      '$CSV' using 1:($2==2?$13:NaN) with linespoints pt 5 lc 2 title '2 workers', \
      '$CSV' using 1:($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     '$CSV' using 1:($2==1?$16:NaN) with linespoints dt 2 pt 6 lc 1 title '1, Pss', \
+     '$CSV' using 1:($2==2?$16:NaN) with linespoints dt 2 pt 4 lc 2 title '2, Pss', \
+     '$CSV' using 1:($2==4?$16:NaN) with linespoints dt 2 pt 8 lc 3 title '4, Pss', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'kB per frame'
 set title 'Bytes the busiest worker receives per frame'
-plot '$CSV' using 1:($2==2?$16/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '$CSV' using 1:($2==4?$16/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
+set key default
+set key top right font ',8'
+plot '$CSV' using 1:($2==2?$19/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
+     '$CSV' using 1:($2==4?$19/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
 unset multiplot
 )";
     publish(context, "cluster-scale", table, "cluster-scale: a world at rest, from 10^4 to 10^6 bodies", md,
