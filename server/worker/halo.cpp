@@ -19,6 +19,16 @@ void add(std::vector<std::uint32_t>& workers, std::uint32_t worker) {
     if (worker != 0 && !contains(workers, worker)) workers.push_back(worker);
 }
 
+/// Calls `each` with the neighbours a mask of Halo::near names (within the grid).
+template <typename Each>
+void for_each_near(const SectorKey& key, std::uint32_t near, Each&& each) {
+    for (int bit = 0; bit < 27; ++bit) {
+        if ((near & (1u << bit)) == 0) continue;
+        const SectorKey neighbour{key.i + bit / 9 - 1, key.j + bit / 3 % 3 - 1, key.k + bit % 3 - 1};
+        if (in_range(neighbour)) each(neighbour);
+    }
+}
+
 }  // namespace
 
 void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
@@ -60,16 +70,19 @@ std::vector<std::uint32_t> Halo::near(const World& world, const std::vector<Body
     return out;
 }
 
+bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
+    bool found = false;
+    for_each_near(key, near, [&](const SectorKey& neighbour) { found = found || owns(neighbour); });
+    return found;
+}
+
 Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, bool emptied, std::uint64_t frame) {
     const bool switching = switching_after(frame);
     Addressing out;
-    for (int bit = 0; bit < 27; ++bit) {
-        if ((near & (1u << bit)) == 0) continue;
-        const SectorKey neighbour{key.i + bit / 9 - 1, key.j + bit / 3 % 3 - 1, key.k + bit % 3 - 1};
-        if (!in_range(neighbour)) continue;
+    for_each_near(key, near, [&](const SectorKey& neighbour) {
         add(out.recipients, current_.owner_of(neighbour));
         if (switching) add(out.recipients, next_.owner_of(neighbour));
-    }
+    });
     if (switching) add(out.recipients, next_.owner_of(key));
     out.recipients.erase(std::remove(out.recipients.begin(), out.recipients.end(), self_),
                          out.recipients.end());

@@ -40,6 +40,8 @@ public:
     std::uint32_t near(const WorldSettings& settings, const BodySnapshot& body, double radius) const;
     std::vector<std::uint32_t> near(const World& world, const std::vector<BodySnapshot>& bodies,
                                     const std::vector<double>& radii) const;
+    /// Whether a body of sector `key` with that mask comes near a sector this worker owns now.
+    bool comes_near_own(const SectorKey& key, std::uint32_t near) const;
 
     /// Who one of its own sectors goes to now, given the neighbours its bodies come near: their owners
     /// (and, at the frame before an assignment change, their owners under the next one too, and the next
