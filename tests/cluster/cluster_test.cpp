@@ -433,10 +433,11 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     std::printf("resident memory not checked under AddressSanitizer\n");
     std::printf("the flood's rate not checked under AddressSanitizer (it writes 5,600 a second there)\n");
 #else
-    // A flood, not a trickle: beyond what lpss::Client's synchronous writes reached (10,000-19,000 a second).
-    // At the lowest priority the peer wrote 46,000-57,000 a second on this machine, 23,000-25,000 under a
-    // quota of one CPU (a cgroup's cpu.cfs_quota_us); at equal priority 73,000-99,000.
-    EXPECT_GT(double(written) / flood_s, 20000.0);
+    // A flood, not a trickle: 15 times the rate limit at least. At the lowest priority the peer wrote
+    // 37,000-57,000 a second on this machine and 23,000-25,000 under a quota of one CPU (a cgroup's
+    // cpu.cfs_quota_us, as a CI runner may have); at equal priority 73,000-99,000; lpss::Client's synchronous
+    // writes reach 10,000-19,000.
+    EXPECT_GT(double(written) / flood_s, 15.0 * rate);
     // The standby holds each command it read until the coordinator's answer comes, which lags under a flood:
     // up to 22,000 of them at once in a 10 s flood (logged), none 2 s after it; what it grows by is that
     // high-water mark (3-15 MiB in nine runs). StandingCommands' own tests check that answers free them.
