@@ -217,15 +217,18 @@ int main(int argc, char** argv) {
             near_end || Clock::now() - proportional_taken >= std::chrono::seconds(10);
         std::vector<std::pair<std::string, lpss::MemoryUse>> all;
         std::uint64_t proportional = 0;
+        bool proportional_read =
+            true;  // a kernel or /proc that does not say loses that part of the line only
         auto add = [&](std::string name, const ChildProcess& process) {
             const std::optional<lpss::MemoryUse> use = lpss::memory_use(process.pid());
-            const std::optional<std::uint64_t> pss =
-                with_proportional ? lpss::proportional_resident_bytes(process.pid()) : std::uint64_t{0};
-            if (use && pss) {
-                all.emplace_back(std::move(name), *use);
-                proportional += *pss;
+            if (!use) return false;
+            all.emplace_back(std::move(name), *use);
+            if (with_proportional) {
+                const std::optional<std::uint64_t> pss = lpss::proportional_resident_bytes(process.pid());
+                proportional += pss.value_or(0);
+                proportional_read = proportional_read && pss.has_value();
             }
-            return use && pss;
+            return true;
         };
         if (coordinator->running() && !add("coordinator", *coordinator)) return std::nullopt;
         if (standby && standby->running() &&
@@ -244,7 +247,9 @@ int main(int argc, char** argv) {
             most += fmt::format("{}{:.0f}", most.empty() ? "" : ", ", mib(use.peak_bytes));
         }
         if (with_proportional) {
-            proportional_said = fmt::format("{:.0f} MiB at frame {}", mib(proportional), last_frame);
+            proportional_said = proportional_read
+                                    ? fmt::format("{:.0f} MiB at frame {}", mib(proportional), last_frame)
+                                    : std::string("not readable");
             proportional_taken = Clock::now();
             proportional_near_end = proportional_near_end || near_end;
         }
