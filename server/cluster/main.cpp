@@ -202,12 +202,11 @@ int main(int argc, char** argv) {
     auto last_print = start;
     auto first_time = start;
     std::uint64_t printed_frame = 0;
-    // Memory of every process, as the kernel counts it: resident now, and the most each has held.
-    // The memory of every process there, or none if one of them could not be read: at the end they go
-    // one by one, and one read as it went counted 0 MiB (seen: "standby 0" in the example's last line, the
-    // standby gone between a check that it was there and the reading).
-    // The proportional set (each shared page counted once) costs the kernel a walk of every page (17 ms for a
-    // process of 1.2 GB here): taken every 10 s, and once past 80% of a run of --frames.
+    // Memory of every process, as the kernel counts it: resident now, and the most each has held. None if
+    // one of them could not be read: at the end they go one by one, and one read as it went counted 0 MiB
+    // (seen: "standby 0" in the example's last line, the standby gone between a check that it was there and
+    // the reading). The proportional set (each shared page counted once) costs the kernel a walk of every
+    // page (17 ms for a process of 1.2 GB here): taken every 10 s, and once past 80% of a run of --frames.
     std::string proportional_said = "not yet taken";
     auto proportional_taken = Clock::now() - std::chrono::seconds(10);
     bool proportional_near_end = false;
@@ -217,8 +216,8 @@ int main(int argc, char** argv) {
             near_end || Clock::now() - proportional_taken >= std::chrono::seconds(10);
         std::vector<std::pair<std::string, lpss::MemoryUse>> all;
         std::uint64_t proportional = 0;
-        bool proportional_read =
-            true;  // a kernel or /proc that does not say loses that part of the line only
+        // A kernel or /proc that does not give the proportional set loses that part of the line only.
+        bool proportional_read = true;
         auto add = [&](std::string name, const ChildProcess& process) {
             const std::optional<lpss::MemoryUse> use = lpss::memory_use(process.pid());
             if (!use) return false;

@@ -51,11 +51,10 @@ struct Coordinator::State {
     /// standby, and none once released.
     std::unique_ptr<dds::Writer<wire::SectorFrame>> first_state_out;
     /// The frame of the oldest samples in sectors_out's (or first_state_out's) history still to be released
-    /// (none: all released),
-    /// and when they were written. The first state is 380 bytes a body (537 MiB at a million bodies); the
-    /// sectors restored after a death are as much per body restored, eight samples deep per sector: kept,
-    /// they held up to eight copies of the restored part of the world after a few deaths (measured: 0.8 MB
-    /// after one restore in a world of 2,512 bodies).
+    /// (none: all released), and when they were written. The first state is 380 bytes a body (537 MiB at a
+    /// million bodies); the sectors restored after a death are as much per body restored, eight samples deep
+    /// per sector: kept, they held up to eight copies of the restored part of the world after a few deaths
+    /// (measured: 0.8 MB after one restore in a world of 2,512 bodies).
     std::optional<std::uint64_t> history_from;
     Clock::time_point history_written_at;
     /// The samples just written to sectors_out (at frame `f`) wait in its history for release_history.

@@ -270,7 +270,8 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     // for its participant, which inherit the priority of the thread that makes it) run at the lowest CPU
     // priority, so that what is measured is the flood arriving at the coordinator's socket, not a local
     // process taking the cluster's CPU (which no defence on the wire can answer). At equal priority on a CI
-    // runner held to two CPUs' quota, the whole cluster ran at 17 frames a second and an answer took 4.9 s.
+    // runner (held to a CPU quota, it seems), the whole cluster ran at 17 frames a second and an answer took
+    // 4.9 s.
     auto lowest_priority = [] { ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 19); };
     Expected<std::unique_ptr<dds::Participant>> peer = Error{"not made"};
     std::thread([&] {
