@@ -76,6 +76,7 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
     const std::string copy = (std::filesystem::path(::testing::TempDir()) /
                               ("lpss_" + std::to_string(::getpid()) + "_ecef_convoy.textproto"))
                                  .string();
+    testing::remove_stale(copy);
     std::filesystem::copy_file(scene_path, copy, std::filesystem::copy_options::overwrite_existing);
     const auto sim = run_sim(copy, kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1u);

@@ -66,6 +66,7 @@ TEST(View, ChromiumDrawsEveryBodyAndOneTenToTheTwelveOutWhereItIs) {
     const testing::DomainCleanup cleanup(kDomain);
     const std::string dir =
         (std::filesystem::path(::testing::TempDir()) / ("lpss_view_" + std::to_string(::getpid()))).string();
+    testing::remove_stale(dir);
     std::filesystem::create_directories(dir);
     const std::string scene = dir + "/view.textproto";
     std::ofstream(scene) << kScene;

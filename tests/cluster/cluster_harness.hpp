@@ -38,6 +38,26 @@ inline std::string write_scene(const Scene& scene, const std::string& name) {
     return path.string();
 }
 
+/// Removes what an earlier test process left under `stem` (a file or folder, and the files beside it
+/// named after it: stem.x, stem-x). Process ids come round again, and ChildProcess appends to a log that
+/// exists, so a test would read an earlier run's lines as its own (seen: an example's output holding two
+/// runs, a test counting twice the reports it expected).
+inline void remove_stale(const std::string& stem) {
+    namespace fs = std::filesystem;
+    const fs::path path(stem);
+    const std::string name = path.filename().string();
+    std::error_code ec;
+    std::vector<fs::path> stale;
+    for (const fs::directory_entry& e : fs::directory_iterator(path.parent_path(), ec)) {
+        const std::string other = e.path().filename().string();
+        const bool beside = other.size() > name.size() && other.compare(0, name.size(), name) == 0 &&
+                            (other[name.size()] == '.' || other[name.size()] == '-');
+        if (other == name || beside) stale.push_back(e.path());
+    }
+    for (const fs::path& p : stale)
+        fs::remove_all(p, ec);
+}
+
 /// Removes what the test's processes leave in /dev/shm on its domain (a killed worker's segment, every
 /// participant's port files) when the test ends. Declare it before the test's clients and clusters, so that
 /// they have gone by then.
@@ -113,6 +133,7 @@ inline ClusterRun start_cluster(const std::string& scene, int domain, int worker
     run.log_dir = (std::filesystem::path(::testing::TempDir()) /
                    ("lpss_cluster_" + std::to_string(::getpid()) + "_" + std::to_string(domain)))
                       .string();
+    remove_stale(run.log_dir);
     std::vector<std::string> args = {scene,
                                      "--workers",
                                      std::to_string(workers),

@@ -1768,6 +1768,7 @@ TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(crossing_scene(), "orphans");
     const std::string logs = path + ".orphans";
+    testing::remove_stale(logs);
     std::vector<runtime::ChildProcess> workers;
     for (int w = 1; w <= 2; ++w) {
         auto worker = runtime::ChildProcess::start(
