@@ -79,6 +79,16 @@ const Aabb& BorderIndex::current_reach(std::uint32_t slot, std::uint64_t frame) 
     return entry.reach;
 }
 
+bool BorderIndex::prepare_reach(std::uint32_t slot, std::uint64_t frame) {
+    const Aabb& tight = current_reach(slot, frame);
+    const BodyRecord& rec = bodies_[slot];
+    const BorderEntry& entry = rec.border;
+    // What update checks before it returns early, and what relist would find to do.
+    if (!entry.has_fat || !(entry.fat_frame == sector_of(rec).key) || !entry.fat.contains(tight))
+        return false;
+    return entry.partners.empty() ? !entry.listed_in.valid() : entry.listed_in == rec.sector;
+}
+
 bool BorderIndex::reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame) {
     const Aabb& ra = current_reach(a, frame);
     const Aabb& rb = current_reach(b, frame);

@@ -44,8 +44,10 @@ public:
     /// Computes a body's tight reach for `frame` ahead of update, from the thread that has just stepped
     /// its sector (where the body is in cache, and in parallel: Box2D checks its fat boxes in the
     /// solver's threads for the same reason). Touches only this body's entry. Whatever changes the body
-    /// before that frame's update must call forget_reach.
-    void prepare_reach(std::uint32_t slot, std::uint64_t frame) { current_reach(slot, frame); }
+    /// before that frame's update must call forget_reach and have the body updated. Returns whether that
+    /// update would have nothing to do: the reach within its fat box, in the box's sector, the body
+    /// listed as its partners say.
+    bool prepare_reach(std::uint32_t slot, std::uint64_t frame);
     /// Drops a reach computed ahead: the body was moved, pushed or changed sector since.
     void forget_reach(std::uint32_t slot) { bodies_[slot].border.reach_frame = 0; }
     /// Whether two partners may touch in `frame`: their tight reaches meet. After this frame's updates.

@@ -118,6 +118,11 @@ public:
     std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
     std::vector<BodyId> moved;  ///< originals active during the step, logged serially afterwards
+    /// Slots of the originals the step moved that the next frame's sectorization or border index has
+    /// work for (beyond the hysteresis band, or out of their fat reach box): found by the stepping
+    /// thread, where the body is in cache, so that the serial stages do not walk the rest (Box2D's
+    /// enlarged-box flags, set in its solver's threads, serve the same end).
+    std::vector<std::uint32_t> visits;
 
     /// The most any original's fat reach box has extended beyond its broadphase box (reach.cpp): the
     /// growth of queries that look for this sector's bodies by fat box.

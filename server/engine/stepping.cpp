@@ -137,9 +137,14 @@ void World::Impl::finish_step(Sector& sector) {
         [](const ContactRecord& x, const ContactRecord& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
     // Last: moving the anchor leaves the manifolds' world points stale until the next step.
     follow_bodies(sector);
-    // The bodies found active are the next frame's candidates: their reach is wanted then.
+    // The bodies found active are the next frame's candidates: their reach is wanted then, and those
+    // with nothing to do at the next sectorization and border update are left out of its visits.
+    sector.visits.clear();
     for (std::uint32_t slot : sector.originals) {
-        if (bodies[slot].moved_frame == frame) border.prepare_reach(slot, frame + 1);
+        const BodyRecord& rec = bodies[slot];
+        if (rec.moved_frame != frame) continue;
+        const bool settled = border.prepare_reach(slot, frame + 1);
+        if (!settled || rec.local.cwiseAbs().maxCoeff() >= band) sector.visits.push_back(slot);
     }
 }
 

@@ -594,13 +594,16 @@ void World::Impl::step() {
 
     // Only bodies the last step found active (before or after it: see step_sectors), and bodies touched
     // by commands, can have moved. Not every body of a stepped sector: a ball rolling through a sector of
-    // resting boxes cost a border and sector check for each box, every frame.
+    // resting boxes cost a border and sector check for each box, every frame. Of the active ones, only
+    // those the step found with work here (Sector::visits): a body drifting within its sector and its fat
+    // box costs nothing serially. A sector made remote since its step has all of its active bodies
+    // visited (as ghosts they may push this engine's bodies: clone_stage).
     std::vector<std::uint32_t>& candidates = candidate_scratch;
     candidates.clear();
     for (engine::SectorId id : step_set) {
         Sector& s = sectors.at(id);
         s.stepping = false;
-        for (std::uint32_t slot : s.originals) {
+        for (std::uint32_t slot : s.remote ? s.originals : s.visits) {
             BodyRecord& rec = record(slot);
             if (rec.moved_frame + 1 == frame && rec.visit_frame != frame) {
                 rec.visit_frame = frame;

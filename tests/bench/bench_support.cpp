@@ -248,8 +248,10 @@ public:
     double seconds_per_iteration = 0.0;
 };
 
+/// Google Benchmark's mean real time per iteration; `iterations` > 0 fixes their number (a world's frames
+/// cannot be run twice), else it runs for at least `min_seconds`.
 double run_benchmark(const std::string& name, const std::function<void(benchmark::State&)>& body,
-                     double min_seconds) {
+                     double min_seconds, benchmark::IterationCount iterations = 0) {
     static bool initialised = [] {
         int argc = 1;
         char arg0[] = "lpss-bench";
@@ -258,7 +260,13 @@ double run_benchmark(const std::string& name, const std::function<void(benchmark
         return true;
     }();
     (void)initialised;
-    benchmark::RegisterBenchmark(name.c_str(), body)->UseRealTime()->MinTime(min_seconds);
+    benchmark::internal::Benchmark* registered =
+        benchmark::RegisterBenchmark(name.c_str(), body)->UseRealTime();
+    if (iterations > 0) {
+        registered->Iterations(iterations);
+    } else {
+        registered->MinTime(min_seconds);
+    }
     Capture capture;
     benchmark::RunSpecifiedBenchmarks(&capture);
     benchmark::ClearRegisteredBenchmarks();
@@ -267,20 +275,31 @@ double run_benchmark(const std::string& name, const std::function<void(benchmark
 
 }  // namespace
 
+namespace {
+
+/// A benchmark body whose every iteration steps `world` `frames` times.
+std::function<void(benchmark::State&)> stepping(World& world, int frames,
+                                                const std::function<void(const FrameStats&)>& each_frame) {
+    return [&world, frames, &each_frame](benchmark::State& state) {
+        for (auto _ : state) {
+            for (int f = 0; f < frames; ++f) {
+                world.step();
+                if (each_frame) each_frame(world.last_frame_stats());
+            }
+        }
+    };
+}
+
+}  // namespace
+
 double ms_per_frame(const std::string& name, World& world, int frames, double min_seconds,
                     const std::function<void(const FrameStats&)>& each_frame) {
-    double seconds = run_benchmark(
-        name,
-        [&](benchmark::State& state) {
-            for (auto _ : state) {
-                for (int f = 0; f < frames; ++f) {
-                    world.step();
-                    if (each_frame) each_frame(world.last_frame_stats());
-                }
-            }
-        },
-        min_seconds);
-    return 1e3 * seconds / frames;
+    return 1e3 * run_benchmark(name, stepping(world, frames, each_frame), min_seconds) / frames;
+}
+
+double ms_over_frames(const std::string& name, World& world, int frames,
+                      const std::function<void(const FrameStats&)>& each_frame) {
+    return 1e3 * run_benchmark(name, stepping(world, frames, each_frame), 0.0, 1) / frames;
 }
 
 double ms_per_frame_fresh(const std::string& name, const std::function<World()>& make, int frames,

@@ -82,6 +82,10 @@ void progress(const std::string& what);
 /// `each_frame` (not timed separately) may read the frame's statistics.
 double ms_per_frame(const std::string& name, World& world, int frames, double min_seconds = 0.2,
                     const std::function<void(const FrameStats&)>& each_frame = {});
+/// Mean real time per frame over exactly the next `frames` frames of `world` (one Google Benchmark
+/// iteration): a fixed window of a world's history, the same for every size.
+double ms_over_frames(const std::string& name, World& world, int frames,
+                      const std::function<void(const FrameStats&)>& each_frame = {});
 /// Each iteration builds a world (not timed) and steps it `frames` times (timed).
 double ms_per_frame_fresh(const std::string& name, const std::function<World()>& make, int frames,
                           double min_seconds = 0.2);
