@@ -632,6 +632,7 @@ void World::Impl::step() {
                                    }),
                     departing.end());
 
+    stats.visited_bodies = candidates.size();
     if (!options.monolithic) sectorize(candidates);
     // A sector may have been emptied and refilled (keep it), emptied more than once (destroy it once), or
     // destroyed meanwhile by a command that removed its last body (its id is stale: nothing to do).

@@ -188,5 +188,47 @@ TEST(Clones, PoolsStayBoundedOver10000FramesOfOscillation) {
     }
 }
 
+TEST(Borders, BodiesDriftingWithinTheirSlackCostNothingSerially) {
+    // 200 balls drifting slowly in the middle of one sector, one fast ball among them. The slow ones
+    // stay inside their fat reach boxes (slack 0.1 at 0.05 units/s: 120 frames) and their sector's
+    // hysteresis band: after the first frame the serial stages look at the fast one only, though every
+    // ball moves every frame. The fast one (6 units/s) leaves its slack every frame or two.
+    Scene scene;
+    scene.settings.sector_size = 64.0;
+    scene.settings.gravity = Eigen::Vector3d::Zero();
+    scene.settings.sleeping = false;
+    for (int n = 0; n < 200; ++n) {
+        BodyDesc ball;
+        ball.id = static_cast<BodyId>(n + 1);
+        ball.shape = Sphere{0.3};
+        ball.mass = 1;
+        ball.position =
+            Eigen::Vector3d(2.0 * (n % 10) - 9.0, 2.0 * (n / 10 % 10) - 9.0, 2.0 * (n / 100) - 1.0);
+        ball.linear_velocity = Eigen::Vector3d(0.05, -0.03, 0.02);
+        scene.bodies.push_back(ball);
+    }
+    BodyDesc fast;
+    fast.id = 1000;
+    fast.shape = Sphere{0.3};
+    fast.mass = 1;
+    fast.position = Eigen::Vector3d(-10.0, 0.0, 10.0);  // above the others: it meets nothing
+    fast.linear_velocity = Eigen::Vector3d(6.0, 0.0, 0.0);
+    scene.bodies.push_back(fast);
+    World world = make_world(scene);
+    const Eigen::Vector3d first = world.body(1)->position.local;
+    world.step();
+    std::size_t fast_frames = 0;
+    for (int f = 2; f <= 90; ++f) {
+        world.step();
+        const FrameStats& s = world.last_frame_stats();
+        ASSERT_LE(s.visited_bodies, 1u) << "frame " << f;
+        fast_frames += s.visited_bodies == 1;
+    }
+    EXPECT_GE(fast_frames, 30u) << "the fast ball leaves its slack every frame or two";
+    // Every slow ball moved all along (about 0.075 units in 90 frames), unvisited.
+    EXPECT_NEAR((world.body(1)->position.local - first).x(), 0.05 * 90 / 60.0, 1e-3);
+    EXPECT_EQ(world.last_frame_stats().sector_changes, 0u);
+}
+
 }  // namespace
 }  // namespace lpss

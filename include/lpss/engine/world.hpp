@@ -92,6 +92,10 @@ struct FrameStats {
     std::size_t clones = 0;           ///< clones in sectors, planes' per-sector instances excluded
     std::size_t spare_clones = 0;     ///< clones kept in per-body pools for reuse
     std::size_t touching_pairs = 0;
+    /// Bodies the serial stages (sectorize, clone) looked at: those the last step moved past the
+    /// hysteresis band or out of their fat reach box, and those calls touched since. A body drifting
+    /// within its sector and its fat box is not among them.
+    std::size_t visited_bodies = 0;
     double sectorize_seconds = 0.0;
     double clone_seconds = 0.0;
     double step_seconds = 0.0;
