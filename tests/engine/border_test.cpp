@@ -198,20 +198,13 @@ TEST(Borders, BodiesDriftingWithinTheirSlackCostNothingSerially) {
     scene.settings.gravity = Eigen::Vector3d::Zero();
     scene.settings.sleeping = false;
     for (int n = 0; n < 200; ++n) {
-        BodyDesc ball;
-        ball.id = static_cast<BodyId>(n + 1);
-        ball.shape = Sphere{0.3};
-        ball.mass = 1;
-        ball.position =
-            Eigen::Vector3d(2.0 * (n % 10) - 9.0, 2.0 * (n / 10 % 10) - 9.0, 2.0 * (n / 100) - 1.0);
+        const Eigen::Vector3d at(2.0 * (n % 10) - 9.0, 2.0 * (n / 10 % 10) - 9.0, 2.0 * (n / 100) - 1.0);
+        BodyDesc ball = scenes::sphere_body(static_cast<BodyId>(n + 1), 0.3, 1.0, at);
         ball.linear_velocity = Eigen::Vector3d(0.05, -0.03, 0.02);
         scene.bodies.push_back(ball);
     }
-    BodyDesc fast;
-    fast.id = 1000;
-    fast.shape = Sphere{0.3};
-    fast.mass = 1;
-    fast.position = Eigen::Vector3d(-10.0, 0.0, 10.0);  // above the others: it meets nothing
+    // Above the others: it meets nothing.
+    BodyDesc fast = scenes::sphere_body(1000, 0.3, 1.0, Eigen::Vector3d(-10.0, 0.0, 10.0));
     fast.linear_velocity = Eigen::Vector3d(6.0, 0.0, 0.0);
     scene.bodies.push_back(fast);
     World world = make_world(scene);
@@ -225,7 +218,7 @@ TEST(Borders, BodiesDriftingWithinTheirSlackCostNothingSerially) {
         fast_frames += s.visited_bodies == 1;
     }
     EXPECT_GE(fast_frames, 30u) << "the fast ball leaves its slack every frame or two";
-    // Every slow ball moved all along (about 0.075 units in 90 frames), unvisited.
+    // A slow ball moved all along (about 0.075 units in 90 frames), unvisited.
     EXPECT_NEAR((world.body(1)->position.local - first).x(), 0.05 * 90 / 60.0, 1e-3);
     EXPECT_EQ(world.last_frame_stats().sector_changes, 0u);
 }
