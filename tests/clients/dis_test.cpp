@@ -73,9 +73,7 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
     auto scene = load_scene(scene_path);
     ASSERT_TRUE(scene) << scene.error().message;
     const double dt = scene->settings.dt;
-    const std::string copy = (std::filesystem::path(::testing::TempDir()) /
-                              ("lpss_" + std::to_string(::getpid()) + "_ecef_convoy.textproto"))
-                                 .string();
+    const std::string copy = testing::workspace_path("ecef_convoy.textproto");
     testing::remove_stale(copy);
     std::filesystem::copy_file(scene_path, copy, std::filesystem::copy_options::overwrite_existing);
     const auto sim = run_sim(copy, kFrames);

@@ -64,8 +64,7 @@ TEST(View, ChromiumDrawsEveryBodyAndOneTenToTheTwelveOutWhereItIs) {
         GTEST_SKIP() << missing;
     constexpr int kDomain = 147;
     const testing::DomainCleanup cleanup(kDomain);
-    const std::string dir =
-        (std::filesystem::path(::testing::TempDir()) / ("lpss_view_" + std::to_string(::getpid()))).string();
+    const std::string dir = testing::workspace_path("view");
     testing::remove_stale(dir);
     std::filesystem::create_directories(dir);
     const std::string scene = dir + "/view.textproto";

@@ -27,15 +27,15 @@
 #include "lpss/common/scene.hpp"
 #include "lpss/common/state_csv.hpp"
 #include "lpss_dds/shm_cleanup.hpp"
+#include "test_workspace.hpp"
 
 namespace lpss::testing {
 
 /// Writes a scene to a file of the test's own and returns its path.
 inline std::string write_scene(const Scene& scene, const std::string& name) {
-    const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) /
-                                       ("lpss_" + std::to_string(::getpid()) + "_" + name + ".textproto");
+    const std::string path = workspace_path(name + ".textproto");
     std::ofstream(path) << format_scene(scene);
-    return path.string();
+    return path;
 }
 
 /// Removes what an earlier test process left under `stem` (a file or folder, and the files beside it
@@ -130,9 +130,7 @@ struct ClusterRun {
 inline ClusterRun start_cluster(const std::string& scene, int domain, int workers, std::uint64_t frames,
                                 std::vector<std::string> extra = {}, bool fast = false) {
     ClusterRun run;
-    run.log_dir = (std::filesystem::path(::testing::TempDir()) /
-                   ("lpss_cluster_" + std::to_string(::getpid()) + "_" + std::to_string(domain)))
-                      .string();
+    run.log_dir = workspace_path("lpss_cluster_" + std::to_string(domain));
     remove_stale(run.log_dir);
     std::vector<std::string> args = {scene,
                                      "--workers",

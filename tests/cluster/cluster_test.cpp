@@ -2431,9 +2431,7 @@ TEST(Cluster, ClientsJoiningOneAfterAnotherHearEveryPeerWithoutWaitingForItsNext
     ASSERT_NE(at, std::string::npos) << "the built-in profile's announcement period, to slow it";
     profile.replace(at, announcement.size(),
                     "<leaseDuration><sec>120</sec></leaseDuration><leaseAnnouncement><sec>60</sec>");
-    const std::string profile_path = (std::filesystem::path(::testing::TempDir()) /
-                                      ("lpss_" + std::to_string(::getpid()) + "_slow_announcements.xml"))
-                                         .string();
+    const std::string profile_path = testing::workspace_path("slow_announcements.xml");
     std::ofstream(profile_path) << profile;
     auto cluster = start_cluster(LPSS_SOURCE_DIR "/deploy/scenes/far_stacks.textproto", domain, 2, 100000,
                                  {"--profile", profile_path});

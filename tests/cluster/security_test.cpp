@@ -53,8 +53,7 @@ Scene secret_scene() {
 class Identities {
 public:
     Identities() {
-        dir_ =
-            std::filesystem::path(::testing::TempDir()) / ("lpss_identities_" + std::to_string(::getpid()));
+        dir_ = testing::workspace() / "identities";
         std::filesystem::remove_all(dir_);
         const std::string script = std::string(LPSS_SOURCE_DIR) + "/deploy/security/identities.sh";
         const std::string quiet = " > " + (dir_.string() + ".log") + " 2>&1";

@@ -13,6 +13,7 @@
 #include <string>
 #include "lpss/common/scene.hpp"
 #include "lpss/common/state_csv.hpp"
+#include "test_workspace.hpp"
 
 namespace {
 
@@ -33,9 +34,7 @@ Result run(const std::string& command) {
     return r;
 }
 
-std::string temp_path(const std::string& name) {
-    return ::testing::TempDir() + "lpss_sim_test_" + std::to_string(::getpid()) + "_" + name;
-}
+std::string temp_path(const std::string& name) { return lpss::testing::workspace_path(name); }
 
 const std::string kSim = LPSS_SIM;
 const std::string kScene = std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/two_spheres.textproto";
