@@ -33,16 +33,6 @@ bool split_axis(double x, double size, double half, std::int64_t& index, double&
     return index >= -kMaxSectorIndex && index <= kMaxSectorIndex;
 }
 
-double key_difference(std::int64_t a, std::int64_t b) {
-    // Keys reach +-2^62, so a - b can need 64 bits plus a sign: 128-bit arithmetic where 64 bits overflow.
-    // Only then: converting a 128-bit integer is a library call, and the border index asks for the offsets
-    // of neighbouring cells for every leaf it places (7% of the cloning stage). Both conversions round the
-    // same value the same way.
-    std::int64_t difference = 0;
-    if (!__builtin_sub_overflow(a, b, &difference)) return static_cast<double>(difference);
-    return static_cast<double>(static_cast<__int128>(a) - static_cast<__int128>(b));
-}
-
 std::string format_vector(const Eigen::Vector3d& v) {
     std::ostringstream out;
     out.precision(17);
@@ -108,9 +98,10 @@ Expected<SectorPosition> SectorGrid::canonical(const SectorPosition& p) const {
     return out;
 }
 
-Eigen::Vector3d SectorGrid::centre_offset(const SectorKey& from, const SectorKey& to) const {
-    return {key_difference(to.i, from.i) * size_, key_difference(to.j, from.j) * size_,
-            key_difference(to.k, from.k) * size_};
+double SectorGrid::wide_key_difference(std::int64_t a, std::int64_t b) {
+    // Converting a 128-bit integer is a library call: only where 64 bits overflow. Both conversions round
+    // the same value the same way.
+    return static_cast<double>(static_cast<__int128>(a) - static_cast<__int128>(b));
 }
 
 SectorPosition SectorGrid::relocate(const SectorKey& frame, const Eigen::Vector3d& offset) const {
