@@ -1,13 +1,16 @@
 // The files a test process writes (scenes, profiles, the logs of the processes it starts) go in one folder
 // of its own, TempDir()/lpss_test_<pid>: emptied when the process starts (process ids come round again)
-// and removed when it ends with every test passed, kept and named when one failed. Before, each test left
-// its files beside everyone's: a week of suites here left 10,606 files and 1.9 GB in /tmp.
+// and removed when it ends with every test passed, kept and named when one failed or when
+// LPSS_KEEP_TEST_FILES is set (to read what the processes wrote, e.g. a sanitizer build's children's logs).
+// Before, each test left its files beside everyone's: a week of suites here left 10,606 files and 1.9 GB in
+// /tmp.
 #pragma once
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -39,7 +42,7 @@ public:
     }
     void OnTestProgramEnd(const ::testing::UnitTest& unit) override {
         std::error_code ec;
-        if (unit.Passed()) {
+        if (unit.Passed() && std::getenv("LPSS_KEEP_TEST_FILES") == nullptr) {
             std::filesystem::remove_all(workspace(), ec);
         } else {
             std::printf("the test's files (scenes, logs) are kept in %s\n", workspace().c_str());
