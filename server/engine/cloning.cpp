@@ -156,6 +156,27 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
             }
         }
     }
+    if (options.check_clones) check_clones();
+}
+
+void World::Impl::check_clones() {
+    for (SectorId id : step_set) {
+        const Sector& s = sectors.at(id);
+        for (std::uint32_t slot : border.partnered(s)) {
+            if (!record(slot).dynamic) continue;
+            for (std::uint32_t other : border.partners(slot)) {
+                if (!border.reaches_meet(slot, other, frame) || record(other).clone_in(id) != nullptr)
+                    continue;
+                if (clone_check_failure.empty()) {
+                    clone_check_failure = "frame " + std::to_string(frame) + ": body " +
+                                          std::to_string(record(slot).id) + " has no clone of body " +
+                                          std::to_string(record(other).id) +
+                                          " in its sector, where their "
+                                          "reaches meet";
+                }
+            }
+        }
+    }
 }
 
 Clone& World::Impl::create_clone(std::uint32_t slot, Sector& host) {

@@ -770,6 +770,8 @@ Status World::check_consistency() const {
     auto lists = [](const std::vector<std::uint32_t>& slots, std::uint32_t slot) {
         return std::find(slots.begin(), slots.end(), slot) != slots.end();
     };
+    if (!w.clone_check_failure.empty())
+        return Error{"the cloning stage missed a clone: " + w.clone_check_failure};
     std::size_t alive = 0, owned = 0, clones = 0, spares = 0;
     for (std::uint32_t slot = 0; slot < w.bodies.size(); ++slot) {
         const BodyRecord& rec = w.bodies[slot];

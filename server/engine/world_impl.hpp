@@ -6,6 +6,7 @@
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -30,6 +31,8 @@ struct World::Impl {
     void step();
     void sectorize(const std::vector<std::uint32_t>& candidates);
     void clone_stage(const std::vector<std::uint32_t>& candidates);
+    /// EngineOptions::check_clones: notes in clone_check_failure a clone the stage should have made.
+    void check_clones();
     void step_sectors();
     void note_active(engine::Sector& sector);
     void track_positions(engine::Sector& sector, double dt);
@@ -119,6 +122,7 @@ struct World::Impl {
     // Scratch, kept to avoid allocation per frame.
     std::vector<std::uint32_t> candidate_scratch;
     std::vector<std::pair<engine::SectorId, std::uint32_t>> missing_scratch;  ///< clones to create this frame
+    std::string clone_check_failure;  ///< the first clone check_clones found missing (none: empty)
 
     engine::ContactTracker contacts;  ///< touching pairs over every sector, and the events they make
 

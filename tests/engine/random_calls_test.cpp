@@ -3,7 +3,8 @@
 // cross borders, empty sectors and refill them all the time (what a worker's ghost updates, remove
 // commands and halo drops do). After every call the engine's invariants must hold (World::check_consistency:
 // every body in exactly one live sector that lists it, clones only in live sectors next to their
-// originals, pools bounded, no destroyed sector still listed). Run under -DLPSS_SANITIZE=address,undefined
+// originals, pools bounded, no destroyed sector still listed), and every cloning stage must have made each
+// clone a stepped body needs (EngineOptions::check_clones). Run under -DLPSS_SANITIZE=address,undefined
 // to turn any use of freed memory into a failure. A failing run prints its seed; rerun one seed with
 // LPSS_RANDOM_SEED=N, or more seeds with LPSS_RANDOM_SEEDS=N.
 #include <gtest/gtest.h>
@@ -32,6 +33,7 @@ public:
         EngineOptions options;
         options.threads = coin(0.3) ? 2 : 1;
         options.max_spare_clones = static_cast<std::size_t>(pick(0, 3));
+        options.check_clones = true;
         options.owns = [this](const SectorKey& key) { return owns(key); };
         world_.emplace(World::create(settings, options).value());
         if (coin(0.5)) {

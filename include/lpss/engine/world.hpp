@@ -48,6 +48,9 @@ struct EngineOptions {
     /// server/engine/island_batch.hpp): the same results as stepping each alone, at less cost. Off only
     /// to check that equality.
     bool group_small_sectors = true;
+    /// For tests: after every cloning stage, check that each dynamic body of a stepped sector has there a
+    /// clone of every partner whose reach meets its own; check_consistency reports the first that did not.
+    bool check_clones = false;
     /// Which sectors this engine simulates (every sector when empty). A body in a sector it does not own
     /// is a *ghost*: a copy of a body another process simulates, kept so that it can be cloned across
     /// the border; set_state moves it. An owned body whose centre crosses into a sector not owned stays
