@@ -2540,10 +2540,9 @@ TEST(Cluster, TheMultiHostProfileRunsACluster) {
     if (interfaces > 0) GTEST_SKIP() << "not in a loopback-only network namespace (needs root)";
     const Scene scene = crossing_scene();
     const std::string path = write_scene(scene, "lan");
-    const std::string command = std::string(LPSS_CLUSTER) + " " + path +
-                                " --workers 2 --frames 120 --domain 119 --quiet --profile " LPSS_SOURCE_DIR
-                                "/deploy/profiles/lpss-lan.xml > " +
-                                path + ".out 2>&1";
+    const std::string command =
+        std::string(LPSS_CLUSTER) + " " + path + " --workers 2 --frames 120 --domain 119 --quiet --log-dir " +
+        path + ".logs --profile " LPSS_SOURCE_DIR "/deploy/profiles/lpss-lan.xml > " + path + ".out 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << "see " << path << ".out";
 }
 
@@ -2567,8 +2566,8 @@ TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {
     // A scene the coordinator refuses: the reason names the body and the field, and nothing keeps running.
     Scene bad = scenes::sphere_pair(Eigen::Vector3d::Zero().eval(), kL);
     bad.bodies[1].position = Eigen::Vector3d(std::nan(""), 0, 0);
-    std::tie(code, out) =
-        run(std::string(LPSS_CLUSTER) + " " + write_scene(bad, "refused") + " --domain 126");
+    std::tie(code, out) = run(std::string(LPSS_CLUSTER) + " " + write_scene(bad, "refused") +
+                              " --domain 126 --log-dir " + testing::workspace_path("refused.logs"));
     EXPECT_NE(code, 0);
     EXPECT_NE(out.find("body 'right' (id 2): position.global is not finite"), std::string::npos) << out;
     std::tie(code, out) = run(std::string(LPSS_WORKER) + " --id 1 --domain 126 --profile /nonexistent.xml");
