@@ -171,8 +171,7 @@ void World::Impl::check_clones() {
                     clone_check_failure = "frame " + std::to_string(frame) + ": body " +
                                           std::to_string(record(slot).id) + " has no clone of body " +
                                           std::to_string(record(other).id) +
-                                          " in its sector, where their "
-                                          "reaches meet";
+                                          " in its sector, where their reaches meet";
                 }
             }
         }

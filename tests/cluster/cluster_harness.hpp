@@ -1,6 +1,6 @@
 // Running lpss-cluster from a test: each test on a DDS domain of its own, the whole test process (and so
 // its children) in a network namespace holding only loopback when the machine allows it (see main in
-// cluster_test_main.cpp), children stopped and logs kept under the test's temporary folder.
+// cluster_test_main.cpp), children stopped and logs kept in the test process's folder (test_workspace.hpp).
 #pragma once
 
 #include <dirent.h>
@@ -38,10 +38,11 @@ inline std::string write_scene(const Scene& scene, const std::string& name) {
     return path;
 }
 
-/// Removes what an earlier test process left under `stem` (a file or folder, and the files beside it
-/// named after it: stem.x, stem-x). Process ids come round again, and ChildProcess appends to a log that
-/// exists, so a test would read an earlier run's lines as its own (seen: an example's output holding two
-/// runs, a test counting twice the reports it expected).
+/// Removes what an earlier run left under `stem` (a file or folder, and the files beside it named after it:
+/// stem.x, stem-x). ChildProcess appends to a log that exists, so a test would read an earlier run's lines
+/// as its own (seen: an example's output holding two runs, a test counting twice the reports it expected).
+/// The process's folder starts empty (test_workspace.hpp); this covers a test run again in one process
+/// (--gtest_repeat).
 inline void remove_stale(const std::string& stem) {
     namespace fs = std::filesystem;
     const fs::path path(stem);

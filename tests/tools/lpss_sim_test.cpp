@@ -34,13 +34,11 @@ Result run(const std::string& command) {
     return r;
 }
 
-std::string temp_path(const std::string& name) { return lpss::testing::workspace_path(name); }
-
 const std::string kSim = LPSS_SIM;
 const std::string kScene = std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/two_spheres.textproto";
 
 TEST(LpssSim, WritesTheStateCsv) {
-    const std::string csv = temp_path("states.csv");
+    const std::string csv = lpss::testing::workspace_path("states.csv");
     Result r = run(kSim + " " + kScene + " --frames 180 --every 60 --csv " + csv);
     ASSERT_EQ(r.status, 0) << r.output;
     std::ifstream in(csv);
@@ -79,7 +77,7 @@ TEST(LpssSim, PrintsASummaryWithoutCsv) {
 }
 
 TEST(LpssSim, RefusesABadSceneWithANamedError) {
-    const std::string path = temp_path("bad.textproto");
+    const std::string path = lpss::testing::workspace_path("bad.textproto");
     std::ofstream(path) << "sector_size: 128\nbodies { id: 3 name: \"crate\" shape { box { half_extents { x: "
                            "1 y: 0 z: 1 } } } mass: 1 }\n";
     Result r = run(kSim + " " + path + " --frames 10");
@@ -125,7 +123,8 @@ TEST(LpssSim, KeepsTheEcefConvoyOnItsRoadWherePlainFloatBulletCannot) {
     const std::string path = std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/ecef_convoy.textproto";
     auto scene = lpss::load_scene(path);
     ASSERT_TRUE(scene) << scene.error().message;
-    const std::string lpss_csv = temp_path("convoy.csv"), plain_csv = temp_path("convoy_plain.csv");
+    const std::string lpss_csv = lpss::testing::workspace_path("convoy.csv"),
+                      plain_csv = lpss::testing::workspace_path("convoy_plain.csv");
     ASSERT_EQ(run(kSim + " " + path + " --frames 900 --csv " + lpss_csv).status, 0);
     ASSERT_EQ(run(kSim + " " + path + " --frames 900 --monolithic --csv " + plain_csv).status, 0);
     auto worst_off = [&](const std::string& csv) {
