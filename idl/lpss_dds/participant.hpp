@@ -142,6 +142,13 @@ public:
     struct Liveliness {
         fdds::InstanceHandle_t writer;
         bool alive = false;
+        /// The reader's writers alive after this change. Fast DDS 2.9 adds up the changes of two writers whose
+        /// liveliness changes on two threads at once and names only the last writer
+        /// (DataReaderImpl::update_liveliness_status): a reader that has one leased topic can trust the count
+        /// where a writer's own report went missing.
+        std::int32_t alive_count = 0;
+        /// More than one writer's change in this report: `writer` and `alive` tell of the last one only.
+        bool merged = false;
     };
     /// The changes since the last call, in order.
     std::vector<Liveliness> take_liveliness();
