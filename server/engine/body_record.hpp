@@ -81,7 +81,8 @@ struct BodyRecord {
     std::vector<std::unique_ptr<btRigidBody>> spare_clones;
 
     // Read when bodies and clones are made.
-    std::unique_ptr<btCollisionShape> shape;  ///< shared by the original and every clone
+    std::shared_ptr<btCollisionShape>
+        shape;  ///< shared by the original, every clone, and every body of its shape (ShapeLibrary)
     btScalar mass = 0;
     btVector3 inertia{0, 0, 0};
     double bound_radius = 0.0;

@@ -218,7 +218,7 @@ void World::Impl::insert_body(const BodyDesc& desc) {
     rec.alive = true;
     rec.dynamic = desc.mass > 0.0;
     rec.plane = is_plane(desc.shape);
-    rec.shape = engine::make_collision_shape(desc.shape);
+    rec.shape = shapes.get(desc.shape);
     rec.bound_radius = lpss::bounding_radius(desc.shape);
     slots.emplace(desc.id, slot);
 

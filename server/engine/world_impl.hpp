@@ -18,6 +18,7 @@
 #include "lpss/engine/world.hpp"
 #include "sector.hpp"
 #include "sector_table.hpp"
+#include "shape_library.hpp"
 #include "shared_collision_configuration.hpp"
 #include "thread_pool.hpp"
 
@@ -90,6 +91,7 @@ struct World::Impl {
     std::vector<std::unique_ptr<btSequentialImpulseConstraintSolver>> solvers;  ///< one per thread
     engine::ThreadPool pool;
 
+    engine::ShapeLibrary shapes;
     engine::SectorTable sectors;
     std::vector<engine::BodyRecord> bodies;  ///< by slot; slots are reused through free_slots
     std::vector<std::uint32_t> free_slots;
