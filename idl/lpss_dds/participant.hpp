@@ -142,8 +142,8 @@ public:
     struct Liveliness {
         fdds::InstanceHandle_t writer;
         bool alive = false;
-        /// The reader's writers alive after this change. Fast DDS 2.9 adds up the changes of two writers whose
-        /// liveliness changes on two threads at once and names only the last writer
+        /// The reader's writers alive after this change. Fast DDS 2.9 adds up the changes of two writers
+        /// whose liveliness changes on two threads at once and names only the last writer
         /// (DataReaderImpl::update_liveliness_status): a reader that has one leased topic can trust the count
         /// where a writer's own report went missing.
         std::int32_t alive_count = 0;

@@ -273,7 +273,8 @@ void Inbox::on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChang
         // exited was waited for by its coordinator until every worker was taken as gone.
         // What one writer's change can be: new or gone (alive or not), lapsed, back from a lapse.
         const int a = status.alive_count_change, n = status.not_alive_count_change;
-        const bool one_writer = (a == 0 && n == -1) || (n == 0 && (a == 1 || a == -1)) || (a == -n && (a == 1 || a == -1));
+        const bool one_writer =
+            (a == 0 && n == -1) || (n == 0 && (a == 1 || a == -1)) || (a == -n && (a == 1 || a == -1));
         liveliness_.push_back({status.last_publication_handle, a > 0, status.alive_count, !one_writer});
     }
     on_data_available(nullptr);

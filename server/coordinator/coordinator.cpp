@@ -280,8 +280,9 @@ void Coordinator::State::pump(bool with_samples) {
         // Every writer's report counts, known or not: a false one comes right after a real one.
         lapses.reported(change.writer, change.alive, now);
         if (change.merged)
-            spdlog::warn("coordinator {}: one liveliness report merged several writers' changes; it names one",
-                         options.id);
+            spdlog::warn(
+                "coordinator {}: one liveliness report merged several writers' changes; it names one",
+                options.id);
         if (!change.alive) continue;
         if (standby_writer && change.writer == *standby_writer) {
             standby_lost = false;

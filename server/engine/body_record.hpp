@@ -81,8 +81,8 @@ struct BodyRecord {
     std::vector<std::unique_ptr<btRigidBody>> spare_clones;
 
     // Read when bodies and clones are made.
-    std::shared_ptr<btCollisionShape>
-        shape;  ///< shared by the original, every clone, and every body of its shape (ShapeLibrary)
+    /// Shared by the original, every clone, and every body of the same shape value (ShapeLibrary).
+    std::shared_ptr<btCollisionShape> shape;
     btScalar mass = 0;
     btVector3 inertia{0, 0, 0};
     double bound_radius = 0.0;

@@ -13,8 +13,8 @@ namespace lpss::engine {
 
 /// One Bullet shape per distinct shape value, held by the bodies that have it (and lent to their clones),
 /// as Jolt's bodies share a reference-counted Shape: a world of a million bodies of a few kinds holds a few
-/// shapes, not a million (a convex hull's shape with its polyhedron is about a kilobyte, and building it
-/// was a fifth of a worker's start). Bullet only reads a shape while it steps, so sectors stepped on
+/// shapes, not a million (building them was a fifth of the time a worker spent adding the bodies of its
+/// share at start). Bullet only reads a shape while it steps, so sectors stepped on
 /// different threads may share one. A shape goes when its last body does.
 class ShapeLibrary {
 public:

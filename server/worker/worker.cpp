@@ -139,14 +139,16 @@ struct Worker::State {
     /// coordinator is gone.
     std::set<dds::fdds::InstanceHandle_t> coordinators_heard;
     /// How many of those writers the frame start reader counts alive, by its last report. A report that
-    /// merged two writers' changes names one of them (Inbox::Liveliness): a standby's writer that became alive
-    /// with the coordinator's was missing from the set, and the worker took itself as cut off when the
+    /// merged two writers' changes names one of them (Inbox::Liveliness): a standby's writer that became
+    /// alive with the coordinator's was missing from the set, and the worker took itself as cut off when the
     /// coordinator died although it heard the standby take over. The count says what the set may have missed.
     std::int32_t coordinators_alive = 0;
     dds::ConfirmedLapses<dds::fdds::InstanceHandle_t> coordinator_lapses;
     bool heard_a_coordinator = false;
     void follow_coordinator_liveliness();
-    bool cut_off() const { return heard_a_coordinator && coordinators_heard.empty() && coordinators_alive == 0; }
+    bool cut_off() const {
+        return heard_a_coordinator && coordinators_heard.empty() && coordinators_alive == 0;
+    }
     /// Out of the cluster: what its writers still hold, no one may have yet (written as the link went, or
     /// before a stop); repaired later it would be stale. Dropped from their histories.
     void forget_what_it_wrote();
@@ -264,8 +266,8 @@ void Worker::State::follow_coordinator_liveliness() {
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
         coordinator_lapses.reported(change.writer, change.alive, now);
         if (change.merged)
-            spdlog::info("worker {}: one liveliness report of two coordinators' writers ({} alive now)", options.id,
-                         change.alive_count);
+            spdlog::info("worker {}: one liveliness report of two coordinators' writers ({} alive now)",
+                         options.id, change.alive_count);
         if (change.alive || change.alive_count > 0) heard_a_coordinator = true;
         // A writer that lapsed while its coming alive went unreported was alive all the same: in the set, it
         // gets the grace of any lapse (ConfirmedLapses) before the worker can count itself cut off.
