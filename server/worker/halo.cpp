@@ -33,6 +33,9 @@ void for_each_near(const SectorKey& key, std::uint32_t near, Each&& each) {
 
 void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
     const bool workers_changed = current.workers != current_.workers || next.workers != next_.workers;
+    if (current.epoch != current_.epoch || next.epoch != next_.epoch || largest_radius != largest_radius_ ||
+        workers_changed)
+        recheck_dormant_ = true;
     current_ = current;
     next_ = next;
     largest_radius_ = largest_radius;
@@ -74,6 +77,25 @@ bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
     bool found = false;
     for_each_near(key, near, [&](const SectorKey& neighbour) { found = found || owns(neighbour); });
     return found;
+}
+
+bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
+                       double radius) const {
+    if (owns_now_or_next(key)) return true;
+    // The owner's mask came from the double offset; this one may come from its float (4e-6 units at
+    // L = 128): a hundredth of a percent of the sector more leaves no body out that the owner counts in.
+    const std::uint32_t mask = near(settings, body, radius + 1e-4 * settings.sector_size);
+    bool found = false;
+    for_each_near(key, mask,
+                  [&](const SectorKey& neighbour) { found = found || owns_now_or_next(neighbour); });
+    return found;
+}
+
+void Halo::forget_dormant(BodyId id) {
+    auto at = dormant_sector_.find(id);
+    if (at == dormant_sector_.end()) return;
+    dormant_.erase({at->second, id});
+    dormant_sector_.erase(at);
 }
 
 Halo::Addressing Halo::address(const SectorKey& key, std::uint32_t near, bool emptied, std::uint64_t frame) {
@@ -138,6 +160,7 @@ std::vector<double> radii_of(const World& world, const std::vector<BodySnapshot>
 
 void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                  const std::vector<std::pair<std::uint64_t, BodyDesc>>& also) {
+    const WorldSettings& settings = world.settings();
     // Bodies that left a sector held here (or all of a sector that releases this worker), with the frame
     // they left in...
     std::unordered_map<BodyId, std::uint64_t> left;
@@ -150,7 +173,9 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
         } else if (!owns(key)) {
             held_.insert(key);  // (the world's first state holds this worker's own sectors too)
         }
-        if (released || (sample->complete() && world.has_sector(key))) {
+        const auto dormant_from = dormant_.lower_bound({key, 0});
+        const bool dormant_here = dormant_from != dormant_.end() && dormant_from->first.first == key;
+        if (released || (sample->complete() && (world.has_sector(key) || dormant_here))) {
             // Released: every ghost of the sector goes. Complete: the ghosts it no longer shows left it.
             std::vector<BodyId> shown;
             if (!released) {
@@ -158,9 +183,15 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                     shown.push_back(b.id());
                 std::sort(shown.begin(), shown.end());
             }
-            for (const BodySnapshot& b : world.sector_bodies(key)) {
-                if (!std::binary_search(shown.begin(), shown.end(), b.id)) left[b.id] = sample->frame();
+            auto gone = [&](BodyId id) {
+                if (!std::binary_search(shown.begin(), shown.end(), id)) left[id] = sample->frame();
+            };
+            if (world.has_sector(key)) {
+                for (const BodySnapshot& b : world.sector_bodies(key))
+                    gone(b.id);
             }
+            for (auto it = dormant_from; it != dormant_.end() && it->first.first == key; ++it)
+                gone(it->first.second);
         }
         for (BodyId id : sample->departed())
             left[id] = std::max(left[id], sample->frame());
@@ -171,16 +202,29 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
     std::unordered_map<BodyId, std::uint64_t> seen;
 
     // States follow; bodies new here are built from their kinds, in the scene's order for the world's
-    // first state (ranked), as lpss-sim adds them.
+    // first state (ranked), as lpss-sim adds them; bodies that need not be ghosts here wait as dormant.
     struct Arrival {
         std::uint64_t rank;
-        const wire::SectorFrame* sample;  ///< null: `also[index]`
+        const wire::SectorFrame* sample;  ///< null: `also[index]`, or `dormant`
         std::uint32_t index;              ///< the body in the sample
         std::uint32_t kind;               ///< its kind in the sample
+        bool dormant = false;             ///< a dormant body, built from its record
+        BodyId id = 0;                    ///< (the dormant body)
     };
     std::vector<Arrival> arrivals;
     for (std::uint32_t n = 0; n < also.size(); ++n)
         arrivals.push_back({also[n].first, nullptr, n, 0});
+    constexpr std::uint64_t kUnranked = ~std::uint64_t{0};
+    // The assignment or the reach changed: dormant bodies may come near now.
+    if (recheck_dormant_) {
+        recheck_dormant_ = false;
+        for (const auto& [at, rec] : dormant_) {
+            BodySnapshot state = dds::from_wire(rec.state, at.first);
+            state.position.local = rec.local;
+            if (needs_ghost(settings, at.first, state, rec.radius))
+                arrivals.push_back({kUnranked, nullptr, 0, 0, true, at.second});
+        }
+    }
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = dds::from_wire(sample->sector());
         if (std::find(sample->released().begin(), sample->released().end(), self_) !=
@@ -199,6 +243,22 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                     spdlog::warn("ghost {}: {}", id, st.error().message);
                 continue;
             }
+            BodySnapshot state = dds::from_wire(sample->bodies()[n], key);
+            if (precise) state.position.local = dds::from_wire(sample->offsets()[n]);
+            if (auto was = dormant_sector_.find(id); was != dormant_sector_.end()) {
+                // A dormant body moved (or its sector came whole again): its record follows, in the
+                // sector it is in now.
+                auto rec = dormant_.find({was->second, id});
+                Dormant moved = std::move(rec->second);
+                dormant_.erase(rec);
+                moved.state = sample->bodies()[n];
+                moved.local = state.position.local;
+                const bool needed = needs_ghost(settings, key, state, moved.radius);
+                was->second = key;
+                dormant_.emplace(DormantKey{key, id}, std::move(moved));
+                if (needed) arrivals.push_back({kUnranked, nullptr, 0, 0, true, id});
+                continue;
+            }
             // A body new to this worker: its kind travels with it (in the sample's order, arrivals only in a
             // partial sample).
             while (next_kind < sample->kinds().size() && sample->kinds()[next_kind].id() != id)
@@ -209,25 +269,45 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                 next_kind = 0;
                 continue;
             }
-            const std::uint64_t rank = n < sample->ranks().size() ? sample->ranks()[n] : ~std::uint64_t{0};
-            arrivals.push_back({rank, sample, n, static_cast<std::uint32_t>(next_kind)});
+            const std::uint64_t rank = n < sample->ranks().size() ? sample->ranks()[n] : kUnranked;
+            const wire::BodyKind& kind = sample->kinds()[next_kind];
+            const double radius = kind.shape() == 4 ? 0.0 : bounding_radius(dds::from_wire(kind).shape);
+            if (needs_ghost(settings, key, state, radius)) {
+                arrivals.push_back({rank, sample, n, static_cast<std::uint32_t>(next_kind)});
+            } else {
+                dormant_.emplace(DormantKey{key, id},
+                                 Dormant{sample->bodies()[n], state.position.local, kind, radius});
+                dormant_sector_[id] = key;
+            }
         }
     }
     std::stable_sort(arrivals.begin(), arrivals.end(),
                      [](const Arrival& a, const Arrival& b) { return a.rank < b.rank; });
-    const bool sleeping = world.settings().sleeping;
+    const bool sleeping = settings.sleeping;
     world.reserve(world.body_count() + arrivals.size());
     for (const Arrival& a : arrivals) {
-        if (a.sample == nullptr) {
+        if (a.sample == nullptr && !a.dormant) {
             (void)world.add_body(also[a.index].second);
             continue;
         }
-        const wire::SectorFrame& sample = *a.sample;
-        BodySnapshot state = dds::from_wire(sample.bodies()[a.index], dds::from_wire(sample.sector()));
-        if (sample.offsets().size() == sample.bodies().size())
-            state.position.local = dds::from_wire(sample.offsets()[a.index]);
+        BodySnapshot state;
+        BodyDesc body;
+        if (a.dormant) {
+            auto at = dormant_sector_.find(a.id);
+            if (at == dormant_sector_.end()) continue;  // built already, from another arrival
+            const Dormant& rec = dormant_.at({at->second, a.id});
+            state = dds::from_wire(rec.state, at->second);
+            state.position.local = rec.local;
+            body = dds::placed(dds::from_wire(rec.kind), state);
+            forget_dormant(a.id);
+        } else {
+            const wire::SectorFrame& sample = *a.sample;
+            state = dds::from_wire(sample.bodies()[a.index], dds::from_wire(sample.sector()));
+            if (sample.offsets().size() == sample.bodies().size())
+                state.position.local = dds::from_wire(sample.offsets()[a.index]);
+            body = dds::placed(dds::from_wire(sample.kinds()[a.kind]), state);
+        }
         if (world.contains(state.id)) continue;  // arrived twice in these samples
-        BodyDesc body = dds::placed(dds::from_wire(sample.kinds()[a.kind]), state);
         // At rest as its owner has it: a body that sleeps there starts asleep here (the world's first
         // state); any other arrival takes its owner's state exactly below.
         body.asleep = sleeping && body.mass > 0.0 && !state.awake && state.linear_velocity.isZero() &&
@@ -236,12 +316,13 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
             spdlog::error("cannot hold body {}: {}", body.id, st.error().message);
             continue;
         }
-        if (body.mass > 0.0 && a.rank == ~std::uint64_t{0}) (void)world.set_state(state);
+        if (body.mass > 0.0 && a.rank == kUnranked) (void)world.set_state(state);
     }
     for (const auto& [id, frame] : left) {
         auto shown = seen.find(id);
         if (shown != seen.end() && shown->second >= frame) continue;
         if (world.contains(id) && world.is_ghost(id)) (void)world.remove_body(id);
+        forget_dormant(id);
     }
 }
 

@@ -1,11 +1,16 @@
 // What a worker holds besides its own sectors: the sectors of other workers whose samples are addressed to
-// it, whose bodies it keeps as ghosts in its engine so that they are cloned across its borders exactly as
-// in one process; and, for its own sectors, which workers it addresses them to: the owners of the
-// neighbouring sectors that some body comes near (common/border_reach.hpp). Whoever owns a body decides who
-// holds it, from where the body is now, so that an empty region of the grid costs its owner nothing.
+// it, whose bodies come near its own sectors it keeps as ghosts in its engine so that they are cloned
+// across its borders exactly as in one process; and, for its own sectors, which workers it addresses them
+// to: the owners of the neighbouring sectors that some body comes near (common/border_reach.hpp). Whoever
+// owns a body decides who holds it, from where the body is now, so that an empty region of the grid costs
+// its owner nothing. A sector comes whole once one of its bodies comes near, but only the bodies that come
+// near (and every body of a sector this worker owns or is about to own) are built in the engine: the rest
+// are kept as their last state and kind (a few hundred bytes instead of a body's two kilobytes) until they
+// come near.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <set>
 #include <unordered_map>
 #include <vector>
@@ -34,6 +39,8 @@ public:
         return next_.epoch != current_.epoch && next_.from_frame == frame + 1;
     }
     bool owns(const SectorKey& key) const { return current_.owner_of(key) == self_; }
+    /// Whether it owns the sector now or under the assignment announced.
+    bool owns_now_or_next(const SectorKey& key) const { return owns(key) || next_.owner_of(key) == self_; }
 
     /// The neighbouring sectors a body comes near, as a mask (bit 9(i+1) + 3(j+1) + (k+1) for the
     /// neighbour at offset (i, j, k)): SectorPublisher keeps them with the body.
@@ -42,6 +49,11 @@ public:
                                     const std::vector<double>& radii) const;
     /// Whether a body of sector `key` with that mask comes near a sector this worker owns now.
     bool comes_near_own(const SectorKey& key, std::uint32_t near) const;
+    /// Whether a body of another worker's sector `key` must be a ghost in the engine here: the sector is
+    /// this worker's now or next, or the body comes near one that is (a little wider than its owner's
+    /// mask, which it computed from the double offset this worker may have only as a float).
+    bool needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
+                     double radius) const;
 
     /// Who one of its own sectors goes to now, given the neighbours its bodies come near: their owners
     /// (and, at the frame before an assignment change, their owners under the next one too, and the next
@@ -67,12 +79,15 @@ public:
 
     /// Whether a sector of another worker is held here (its samples are addressed to this worker).
     bool holds(const SectorKey& key) const { return held_.count(key) != 0; }
+    /// Bodies of sectors held here kept out of the engine (they come near none of this worker's sectors).
+    std::size_t dormant() const { return dormant_.size(); }
 
     /// Applies other workers' samples (in frame order) to the engine's ghosts: states follow, bodies that
-    /// arrive are built from their kinds, and those that left what this worker holds are dropped (as are
-    /// sectors that release it). Its own bodies are never touched. The coordinator's samples of the world's
-    /// first state rank their bodies: those are added in the scene's order, together with `also` (ranked
-    /// bodies, the world's planes).
+    /// arrive are built from their kinds where they need to be ghosts (needs_ghost; the others are kept
+    /// dormant, and built once they come near or the assignment or the largest radius changes), and those
+    /// that left what this worker holds are dropped (as are sectors that release it). Its own bodies are
+    /// never touched. The coordinator's samples of the world's first state rank their bodies: those are
+    /// added in the scene's order, together with `also` (ranked bodies, the world's planes).
     void apply(World& world, const std::vector<const wire::SectorFrame*>& samples,
                const std::vector<std::pair<std::uint64_t, BodyDesc>>& also = {});
 
@@ -87,6 +102,19 @@ private:
     };
     std::unordered_map<SectorKey, std::vector<Recipient>, SectorKeyHash> addressed_;  ///< own sectors
     std::set<SectorKey> held_;  ///< other workers' sectors addressed here
+
+    /// A body of a held sector that is not a ghost in the engine: what it takes to build it when it is.
+    struct Dormant {
+        wire::BodyState state;
+        Eigen::Vector3d local;  ///< its offset, in double where a complete sample gave it
+        wire::BodyKind kind;
+        double radius = 0.0;
+    };
+    using DormantKey = std::pair<SectorKey, BodyId>;  ///< by sector first: a sector's bodies together
+    std::map<DormantKey, Dormant> dormant_;
+    std::unordered_map<BodyId, SectorKey> dormant_sector_;
+    bool recheck_dormant_ = false;  ///< the assignment or the largest radius changed since the last apply
+    void forget_dormant(BodyId id);
 };
 
 }  // namespace lpss::worker

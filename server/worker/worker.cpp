@@ -461,25 +461,22 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         count_load(key, before);  // its load counts from now, though it may never change
         halo.addressed(key, seeded->second, 0);
     }
-    // A neighbour's sector comes here whole once one of its bodies comes near: how many of the ghosts come
-    // near themselves says what a halo of single bodies would hold instead (docs/results.md, cluster-scale).
+    // A neighbour's sector comes here whole once one of its bodies comes near; only the bodies that come
+    // near are ghosts in the engine, the rest wait as records (Halo::dormant).
     const double built_s = std::chrono::duration<double>(Clock::now() - started).count();
-    std::size_t own_sectors = 0, ghosts = 0, near_ghosts = 0;
+    std::size_t own_sectors = 0, ghosts = 0;
     for (const SectorKey& key : world->sectors()) {
         if (halo.owns(key)) {
             ++own_sectors;
             continue;
         }
-        for (const BodySnapshot& body : world->sector_bodies(key)) {
-            ++ghosts;
-            const std::uint32_t mask = halo.near(world->settings(), body, world->bounding_radius(body.id));
-            if (halo.comes_near_own(key, mask)) ++near_ghosts;
-        }
+        ghosts += world->sector_bodies(key).size();
     }
     spdlog::info(
-        "worker {}: holds {} bodies in {} sectors ({} of its own) after {:.2f} s; {} of them ghosts, {} of "
-        "those near its own sectors",
-        options.id, world->body_count(), world->sectors().size(), own_sectors, built_s, ghosts, near_ghosts);
+        "worker {}: holds {} bodies in {} sectors ({} of its own) after {:.2f} s; {} of them ghosts near its "
+        "own sectors; {} bodies of the sectors around kept out of the engine",
+        options.id, world->body_count(), world->sectors().size(), own_sectors, built_s, ghosts,
+        halo.dormant());
     return true;
 }
 
