@@ -745,8 +745,13 @@ std::optional<CloneCounts> World::clone_counts(BodyId id) const {
 bool World::has_sector(const SectorKey& key) const { return impl_->find_sector(key) != nullptr; }
 
 void World::reserve(std::size_t count) {
-    impl_->bodies.reserve(count);
-    impl_->slots.reserve(count);
+    // (Seen: a worker reserving one more body a frame spent a sixth of its time copying its records.)
+    Impl& w = *impl_;
+    const std::size_t room = w.bodies.capacity();
+    if (count <= room) return;
+    const std::size_t more = std::max(count, room + room / 2);
+    w.bodies.reserve(more);
+    if (double(more) > double(w.slots.bucket_count()) * w.slots.max_load_factor()) w.slots.reserve(more);
 }
 
 std::vector<SectorKey> World::sectors() const {

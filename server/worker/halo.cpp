@@ -34,8 +34,10 @@ void for_each_near(const SectorKey& key, std::uint32_t near, Each&& each) {
 void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
     const bool workers_changed = current.workers != current_.workers || next.workers != next_.workers;
     if (current.epoch != current_.epoch || next.epoch != next_.epoch || largest_radius != largest_radius_ ||
-        workers_changed)
+        workers_changed) {
         recheck_dormant_ = true;
+        own_around_.clear();
+    }
     current_ = current;
     next_ = next;
     largest_radius_ = largest_radius;
@@ -80,15 +82,22 @@ bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
 }
 
 bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
-                       double radius) const {
-    if (owns_now_or_next(key)) return true;
+                       double radius) {
+    auto [at, added] = own_around_.try_emplace(key, 0u);
+    if (added) {
+        for_each_near(key, (1u << 27) - 1, [&](const SectorKey& neighbour) {
+            if (!owns_now_or_next(neighbour)) return;
+            at->second |=
+                1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) + 3 * (neighbour.j - key.j + 1) +
+                                            (neighbour.k - key.k + 1));
+        });
+    }
+    const std::uint32_t own = at->second;
+    if (own & (1u << 13)) return true;  // its own sector
+    if (own == 0) return false;
     // The owner's mask came from the double offset; this one may come from its float (4e-6 units at
     // L = 128): a hundredth of a percent of the sector more leaves no body out that the owner counts in.
-    const std::uint32_t mask = near(settings, body, radius + 1e-4 * settings.sector_size);
-    bool found = false;
-    for_each_near(key, mask,
-                  [&](const SectorKey& neighbour) { found = found || owns_now_or_next(neighbour); });
-    return found;
+    return (near(settings, body, radius + 1e-4 * settings.sector_size) & own) != 0;
 }
 
 void Halo::forget_dormant(BodyId id) {

@@ -53,7 +53,7 @@ public:
     /// this worker's now or next, or the body comes near one that is (a little wider than its owner's
     /// mask, which it computed from the double offset this worker may have only as a float).
     bool needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
-                     double radius) const;
+                     double radius);
 
     /// Who one of its own sectors goes to now, given the neighbours its bodies come near: their owners
     /// (and, at the frame before an assignment change, their owners under the next one too, and the next
@@ -114,6 +114,9 @@ private:
     std::map<DormantKey, Dormant> dormant_;
     std::unordered_map<BodyId, SectorKey> dormant_sector_;
     bool recheck_dormant_ = false;  ///< the assignment or the largest radius changed since the last apply
+    /// For sectors with bodies held here: which of their neighbours (bits as Halo::near's, bit 13 the
+    /// sector itself) this worker owns now or next. Emptied when the assignment changes.
+    std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> own_around_;
     void forget_dormant(BodyId id);
 };
 

@@ -183,7 +183,8 @@ public:
     /// Whether a sector exists (holds a body).
     bool has_sector(const SectorKey& key) const;
     /// Makes room for this many bodies in all, so that adding a large world does not grow its tables
-    /// again and again.
+    /// again and again. Beyond the room there is, it grows by half at least: called before every few
+    /// bodies added, it must not copy the tables each time.
     void reserve(std::size_t bodies);
     /// Checks the engine's invariants: every body finite and owned by a sector that exists and lists
     /// it, no empty sector, every clone hosted by a live sector. For tests and diagnostics: O(bodies).
