@@ -20,6 +20,7 @@
 #include "cluster_harness.hpp"
 #include "fake_hosts.hpp"
 #include "leak_counter.hpp"
+#include "lpss/common/border_reach.hpp"
 #include "lpss/common/process_memory.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
@@ -844,8 +845,8 @@ TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
 
 TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
     // 50,000 resting bodies over about 120 sectors and 300 balls thrown across the middle, on 3 workers:
-    // each worker owns its share and holds as ghosts only bodies of sectors next to its own (never the
-    // world); every body is seen exactly once in every frame.
+    // each worker owns its share and holds as ghosts only bodies that come near its own sectors (never the
+    // world, nor whole sectors next to its own); every body is seen exactly once in every frame.
     const Scene scene = scenes::resting_world(50000, 300);
     const int domain = 134;
     const testing::DomainCleanup cleanup(domain);
@@ -871,22 +872,37 @@ TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
     for (const auto& [key, bodies] : check.sectors())
         own[check.assignment.owner_of(key)].insert(key);
     const double world = static_cast<double>(check.expected_bodies);
+    // A body comes near a neighbour within the hysteresis band, its radius, the largest radius and three
+    // frames of its motion (common/border_reach.hpp): here under 0.94 + 0.94 + 0.22 + 0.1 past the band.
+    const double near_reach = scene.settings.hysteresis * scene.settings.sector_size + 2.5;
+    const std::size_t balls = 300;
     std::uint64_t owned = 0;
     for (const auto& [worker, m] : check.last_marks) {
         owned += m.bodies();
-        std::size_t next_to_own = 0;
+        std::size_t next_to_own = 0, near_own = 0;
         for (const auto& [key, bodies] : check.sectors()) {
             if (own[worker].count(key)) continue;
             bool adjacent = false;
             for (const SectorKey& mine : own[worker])
                 adjacent = adjacent || sector_distance(mine, key) == 1;
-            if (adjacent) next_to_own += bodies.size();
+            if (!adjacent) continue;
+            next_to_own += bodies.size();
+            for (const dds::SectorMirror::Body& b : bodies) {
+                const Eigen::Vector3d local(b.state.position().x(), b.state.position().y(),
+                                            b.state.position().z());
+                bool near = false;
+                neighbours_within(local, scene.settings.sector_size, near_reach, [&](const SectorKey& d) {
+                    near = near || own[worker].count(SectorKey{key.i + d.i, key.j + d.j, key.k + d.k}) != 0;
+                });
+                near_own += near ? 1 : 0;
+            }
         }
         std::printf(
-            "worker %u: %u bodies of its own, %u ghosts (bodies next to its sectors: %zu), %.1f kB "
-            "received in its last frame\n",
-            worker, m.bodies(), m.ghosts(), next_to_own, m.received_bytes() / 1e3);
-        EXPECT_LE(m.ghosts(), next_to_own) << "worker " << worker << " holds more than its neighbourhood";
+            "worker %u: %u bodies of its own, %u ghosts (bodies next to its sectors: %zu, near them: %zu), "
+            "%.1f kB received in its last frame\n",
+            worker, m.bodies(), m.ghosts(), next_to_own, near_own, m.received_bytes() / 1e3);
+        // A ball that came near once stays a ghost until its sector releases the worker.
+        EXPECT_LE(m.ghosts(), near_own + balls) << "worker " << worker << " holds more than what comes near";
         EXPECT_LT(m.bodies() + m.ghosts(), 0.6 * world) << "worker " << worker << " holds most of the world";
         EXPECT_GT(m.bodies(), 0.15 * world) << "worker " << worker << " has no share of the world";
     }
