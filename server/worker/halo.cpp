@@ -83,16 +83,17 @@ bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
 
 bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
                        double radius) {
-    auto [at, added] = own_around_.try_emplace(key, 0u);
-    if (added) {
+    auto found = own_around_.find(key);
+    if (found == own_around_.end()) {
+        std::uint32_t mask = 0;
         for_each_near(key, (1u << 27) - 1, [&](const SectorKey& neighbour) {
             if (!owns_now_or_next(neighbour)) return;
-            at->second |=
-                1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) + 3 * (neighbour.j - key.j + 1) +
-                                            (neighbour.k - key.k + 1));
+            mask |= 1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) +
+                                                3 * (neighbour.j - key.j + 1) + (neighbour.k - key.k + 1));
         });
+        found = own_around_.emplace(key, mask).first;
     }
-    const std::uint32_t own = at->second;
+    const std::uint32_t own = found->second;
     if (own & (1u << 13)) return true;  // its own sector
     if (own == 0) return false;
     // The owner's mask came from the double offset; this one may come from its float (4e-6 units at
