@@ -33,11 +33,9 @@ void for_each_near(const SectorKey& key, std::uint32_t near, Each&& each) {
 
 void Halo::follow(const SectorAssignment& current, const SectorAssignment& next, double largest_radius) {
     const bool workers_changed = current.workers != current_.workers || next.workers != next_.workers;
-    if (current.epoch != current_.epoch || next.epoch != next_.epoch || largest_radius != largest_radius_ ||
-        workers_changed) {
-        recheck_dormant_ = true;
-        own_around_.clear();
-    }
+    if (current.epoch != current_.epoch || next.epoch != next_.epoch || workers_changed)
+        assignment_changed_ = true;
+    if (largest_radius != largest_radius_) reach_changed_ = true;
     current_ = current;
     next_ = next;
     largest_radius_ = largest_radius;
@@ -81,19 +79,25 @@ bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
     return found;
 }
 
+std::uint32_t Halo::own_around(const SectorKey& key) const {
+    std::uint32_t mask = 0;
+    for_each_near(key, (1u << 27) - 1, [&](const SectorKey& neighbour) {
+        if (!owns_now_or_next(neighbour)) return;
+        mask |= 1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) + 3 * (neighbour.j - key.j + 1) +
+                                            (neighbour.k - key.k + 1));
+    });
+    return mask;
+}
+
 bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
                        double radius) {
     auto found = own_around_.find(key);
-    if (found == own_around_.end()) {
-        std::uint32_t mask = 0;
-        for_each_near(key, (1u << 27) - 1, [&](const SectorKey& neighbour) {
-            if (!owns_now_or_next(neighbour)) return;
-            mask |= 1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) +
-                                                3 * (neighbour.j - key.j + 1) + (neighbour.k - key.k + 1));
-        });
-        found = own_around_.emplace(key, mask).first;
-    }
-    const std::uint32_t own = found->second;
+    if (found == own_around_.end()) found = own_around_.emplace(key, own_around(key)).first;
+    return comes_near(settings, found->second, body, radius);
+}
+
+bool Halo::comes_near(const WorldSettings& settings, std::uint32_t own, const BodySnapshot& body,
+                      double radius) const {
     if (own & (1u << 13)) return true;  // its own sector
     if (own == 0) return false;
     // The owner's mask came from the double offset; this one may come from its float (4e-6 units at
@@ -225,15 +229,25 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
     for (std::uint32_t n = 0; n < also.size(); ++n)
         arrivals.push_back({also[n].first, nullptr, n, 0});
     constexpr std::uint64_t kUnranked = ~std::uint64_t{0};
-    // The assignment or the reach changed: dormant bodies may come near now.
-    if (recheck_dormant_) {
-        recheck_dormant_ = false;
-        for (const auto& [at, rec] : dormant_) {
-            BodySnapshot state = dds::from_wire(rec.state, at.first);
-            state.position.local = rec.local;
-            if (needs_ghost(settings, at.first, state, rec.radius))
-                arrivals.push_back({kUnranked, nullptr, 0, 0, true, at.second});
+    // The assignment or the reach changed: dormant bodies may come near now. Only those of sectors that
+    // gained a neighbour of this worker's, unless every body reaches further: a rebalance need not look
+    // at every dormant body of the worker (20,000-30,000 a worker at a million bodies on four).
+    if (assignment_changed_ || reach_changed_) {
+        auto recheck = [&](const SectorKey& key, std::uint32_t own) {
+            for (auto it = dormant_.lower_bound({key, 0}); it != dormant_.end() && it->first.first == key;
+                 ++it) {
+                BodySnapshot state = dds::from_wire(it->second.state, key);
+                state.position.local = it->second.local;
+                if (comes_near(settings, own, state, it->second.radius))
+                    arrivals.push_back({kUnranked, nullptr, 0, 0, true, it->first.second});
+            }
+        };
+        for (auto& entry : own_around_) {
+            const std::uint32_t before = entry.second;
+            if (assignment_changed_) entry.second = own_around(entry.first);
+            if (reach_changed_ || (entry.second & ~before) != 0) recheck(entry.first, entry.second);
         }
+        assignment_changed_ = reach_changed_ = false;
     }
     for (const wire::SectorFrame* sample : samples) {
         const SectorKey key = dds::from_wire(sample->sector());
@@ -294,7 +308,14 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
     std::stable_sort(arrivals.begin(), arrivals.end(),
                      [](const Arrival& a, const Arrival& b) { return a.rank < b.rank; });
     const bool sleeping = settings.sleeping;
-    world.reserve(world.body_count() + arrivals.size());
+    // Room for the dormant bodies too, so that building them one by one later never moves the engine's
+    // tables (seen: a worker of 250,000 bodies stalled 0.3 s in the frame that outgrew them). Room not
+    // used is address space, not memory: its pages are never touched.
+    const std::size_t room = world.body_count() + arrivals.size() + dormant_.size();
+    if (room > reserved_) {
+        reserved_ = room + room / 4;  // and handoffs and commands add bodies too
+        world.reserve(reserved_);
+    }
     for (const Arrival& a : arrivals) {
         if (a.sample == nullptr && !a.dormant) {
             (void)world.add_body(also[a.index].second);

@@ -113,10 +113,18 @@ private:
     using DormantKey = std::pair<SectorKey, BodyId>;  ///< by sector first: a sector's bodies together
     std::map<DormantKey, Dormant> dormant_;
     std::unordered_map<BodyId, SectorKey> dormant_sector_;
-    bool recheck_dormant_ = false;  ///< the assignment or the largest radius changed since the last apply
+    std::size_t reserved_ = 0;  ///< the engine's room for bodies, as last asked
+    /// Since the last apply the assignment changed (dormant bodies of sectors with more of their
+    /// neighbours this worker's may come near now), or the largest radius did (any dormant body may).
+    bool assignment_changed_ = false;
+    bool reach_changed_ = false;
     /// For sectors with bodies held here: which of their neighbours (bits as Halo::near's, bit 13 the
-    /// sector itself) this worker owns now or next. Emptied when the assignment changes.
+    /// sector itself) this worker owns now or next, as of the last apply.
     std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> own_around_;
+    std::uint32_t own_around(const SectorKey& key) const;
+    /// needs_ghost, given own_around of the body's sector.
+    bool comes_near(const WorldSettings& settings, std::uint32_t own, const BodySnapshot& body,
+                    double radius) const;
     void forget_dormant(BodyId id);
 };
 
