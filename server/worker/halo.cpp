@@ -19,6 +19,11 @@ void add(std::vector<std::uint32_t>& workers, std::uint32_t worker) {
     if (worker != 0 && !contains(workers, worker)) workers.push_back(worker);
 }
 
+/// The bit of a Halo::near mask for the neighbour at `offset` (each index in -1..1; 13 is the sector).
+std::uint32_t near_bit(const SectorKey& offset) {
+    return 1u << static_cast<unsigned>(9 * (offset.i + 1) + 3 * (offset.j + 1) + (offset.k + 1));
+}
+
 /// Calls `each` with the neighbours a mask of Halo::near names (within the grid).
 template <typename Each>
 void for_each_near(const SectorKey& key, std::uint32_t near, Each&& each) {
@@ -59,9 +64,8 @@ void Halo::follow(const SectorAssignment& current, const SectorAssignment& next,
 std::uint32_t Halo::near(const WorldSettings& settings, const BodySnapshot& body, double radius) const {
     std::uint32_t mask = 0;
     const double reach = border_reach(settings, radius, largest_radius_, body.linear_velocity.norm());
-    neighbours_within(body.position.local, settings.sector_size, reach, [&](const SectorKey& d) {
-        mask |= 1u << static_cast<unsigned>(9 * (d.i + 1) + 3 * (d.j + 1) + (d.k + 1));
-    });
+    neighbours_within(body.position.local, settings.sector_size, reach,
+                      [&](const SectorKey& d) { mask |= near_bit(d); });
     return mask;
 }
 
@@ -82,23 +86,26 @@ bool Halo::comes_near_own(const SectorKey& key, std::uint32_t near) const {
 std::uint32_t Halo::own_around(const SectorKey& key) const {
     std::uint32_t mask = 0;
     for_each_near(key, (1u << 27) - 1, [&](const SectorKey& neighbour) {
-        if (!owns_now_or_next(neighbour)) return;
-        mask |= 1u << static_cast<unsigned>(9 * (neighbour.i - key.i + 1) + 3 * (neighbour.j - key.j + 1) +
-                                            (neighbour.k - key.k + 1));
+        if (owns_now_or_next(neighbour))
+            mask |= near_bit({neighbour.i - key.i, neighbour.j - key.j, neighbour.k - key.k});
     });
     return mask;
 }
 
-bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
-                       double radius) {
+std::uint32_t Halo::cached_own_around(const SectorKey& key) {
     auto found = own_around_.find(key);
     if (found == own_around_.end()) found = own_around_.emplace(key, own_around(key)).first;
-    return comes_near(settings, found->second, body, radius);
+    return found->second;
+}
+
+bool Halo::needs_ghost(const WorldSettings& settings, const SectorKey& key, const BodySnapshot& body,
+                       double radius) {
+    return comes_near(settings, cached_own_around(key), body, radius);
 }
 
 bool Halo::comes_near(const WorldSettings& settings, std::uint32_t own, const BodySnapshot& body,
                       double radius) const {
-    if (own & (1u << 13)) return true;  // its own sector
+    if (own & near_bit({0, 0, 0})) return true;  // its own sector
     if (own == 0) return false;
     // The owner's mask came from the double offset; this one may come from its float (4e-6 units at
     // L = 128): a hundredth of a percent of the sector more leaves no body out that the owner counts in.
@@ -187,7 +194,8 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
         } else if (!owns(key)) {
             held_.insert(key);  // (the world's first state holds this worker's own sectors too)
         }
-        const auto dormant_from = dormant_.lower_bound({key, 0});
+        const auto dormant_from =
+            released || sample->complete() ? dormant_.lower_bound({key, 0}) : dormant_.end();
         const bool dormant_here = dormant_from != dormant_.end() && dormant_from->first.first == key;
         if (released || (sample->complete() && (world.has_sector(key) || dormant_here))) {
             // Released: every ghost of the sector goes. Complete: the ghosts it no longer shows left it.
@@ -273,14 +281,16 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
                 // A dormant body moved (or its sector came whole again): its record follows, in the
                 // sector it is in now.
                 auto rec = dormant_.find({was->second, id});
-                Dormant moved = std::move(rec->second);
-                dormant_.erase(rec);
-                moved.state = sample->bodies()[n];
-                moved.local = state.position.local;
-                const bool needed = needs_ghost(settings, key, state, moved.radius);
-                was->second = key;
-                dormant_.emplace(DormantKey{key, id}, std::move(moved));
-                if (needed) arrivals.push_back({kUnranked, nullptr, 0, 0, true, id});
+                if (was->second != key) {  // moved to another held sector: re-keyed
+                    auto node = dormant_.extract(rec);
+                    node.key() = {key, id};
+                    rec = dormant_.insert(std::move(node)).position;
+                    was->second = key;
+                }
+                rec->second.state = sample->bodies()[n];
+                rec->second.local = state.position.local;
+                if (needs_ghost(settings, key, state, rec->second.radius))
+                    arrivals.push_back({kUnranked, nullptr, 0, 0, true, id});
                 continue;
             }
             // A body new to this worker: its kind travels with it (in the sample's order, arrivals only in a
@@ -295,8 +305,11 @@ void Halo::apply(World& world, const std::vector<const wire::SectorFrame*>& samp
             }
             const std::uint64_t rank = n < sample->ranks().size() ? sample->ranks()[n] : kUnranked;
             const wire::BodyKind& kind = sample->kinds()[next_kind];
-            const double radius = kind.shape() == 4 ? 0.0 : bounding_radius(dds::from_wire(kind).shape);
-            if (needs_ghost(settings, key, state, radius)) {
+            // (Its own or next sector's bodies, the world's first state's most, are all built: no radius.)
+            const std::uint32_t own = cached_own_around(key);
+            const double radius =
+                own & near_bit({0, 0, 0}) ? 0.0 : bounding_radius(dds::from_wire(kind).shape);
+            if (comes_near(settings, own, state, radius)) {
                 arrivals.push_back({rank, sample, n, static_cast<std::uint32_t>(next_kind)});
             } else {
                 dormant_.emplace(DormantKey{key, id},

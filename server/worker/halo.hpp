@@ -122,6 +122,7 @@ private:
     /// sector itself) this worker owns now or next, as of the last apply.
     std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> own_around_;
     std::uint32_t own_around(const SectorKey& key) const;
+    std::uint32_t cached_own_around(const SectorKey& key);
     /// needs_ghost, given own_around of the body's sector.
     bool comes_near(const WorldSettings& settings, std::uint32_t own, const BodySnapshot& body,
                     double radius) const;
