@@ -107,13 +107,19 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     BorderEntry& entry = rec.border;
     if (entry.has_fat && entry.fat_frame == sector.key && entry.fat.contains(tight)) return;
     // The slack: a tenth of a unit, or the distance of two frames at the current speed, whichever is
-    // larger (but at most L/8): a resting body never refreshes, a moving one every few frames.
+    // larger (but at most L/8): a resting body never refreshes, a moving one every few frames; and a
+    // stretch along its velocity (kFatLookaheadFrames, at most L/8 long) for one that keeps its heading.
     double slack = 0.0;
+    Eigen::Vector3d ahead = Eigen::Vector3d::Zero();
     if (rec.dynamic) {
-        const double speed = static_cast<double>(rec.rb->getLinearVelocity().length());
-        slack = std::min(sector_size_ / 8.0, std::max(0.1, 2.0 * speed * frame_dt_));
+        const Eigen::Vector3d velocity = to_eigen(rec.rb->getLinearVelocity());
+        slack = std::min(sector_size_ / 8.0, std::max(0.1, 2.0 * velocity.norm() * frame_dt_));
+        ahead = velocity * (kFatLookaheadFrames * frame_dt_);
+        if (ahead.norm() > sector_size_ / 8.0) ahead *= sector_size_ / 8.0 / ahead.norm();
     }
     entry.fat = tight.grown(slack);
+    entry.fat.min += ahead.cwiseMin(0.0);
+    entry.fat.max += ahead.cwiseMax(0.0);
     entry.fat_frame = sector.key;
     entry.has_fat = true;
     // How far the fat box may reach beyond the body's broadphase box, for queries of that broadphase.
