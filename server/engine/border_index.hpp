@@ -2,13 +2,14 @@
 //
 // Each body keeps a *fat* reach box, in its owner sector's frame: its bounding box swept by the motion of
 // the coming frames, grown by a slack and stretched along its velocity, so that it changes only when the
-// body has moved by that slack or turned (the fat boxes of Box2D's dynamic tree, for the same reason). Where a fat box enters cells of the grid
-// other than its owner's, it is a leaf in those cells' trees. Bodies of different sectors whose fat boxes
-// overlap are *partners*: the pairs that need clones. They meet either in a cell foreign to both (both
-// are leaves there) or in the cell of one of them (the other is a leaf there, and the cell's own bodies
-// are found through its Bullet broadphase). Partners are kept from frame to frame and re-examined only
-// for a body whose fat box changed, so the per-frame cost follows the bodies that move out of their
-// slack; a body whose fat box stays inside its sector, in a cell nobody reaches into, costs a lookup.
+// body has moved by that slack or turned (the fat boxes of Box2D's dynamic tree, for the same reason). Where
+// a fat box enters cells of the grid other than its owner's, it is a leaf in those cells' trees. Bodies of
+// different sectors whose fat boxes overlap are *partners*: the pairs that need clones. They meet either in a
+// cell foreign to both (both are leaves there) or in the cell of one of them (the other is a leaf there, and
+// the cell's own bodies are found through its Bullet broadphase). Partners are kept from frame to frame and
+// re-examined only for a body whose fat box changed, so the per-frame cost follows the bodies that move out
+// of their slack; a body whose fat box stays inside its sector, in a cell nobody reaches into, costs a
+// lookup.
 //
 // As Box2D's b2BroadPhase owns its trees and pair set while each shape keeps its own fat box, the index
 // owns the cell trees and each body record keeps its BorderEntry; the cloning stage only asks it.
