@@ -36,7 +36,7 @@ std::filesystem::path own_directory() {
 /// What the workers said about their latest frame.
 struct WorkerSeen {
     std::uint64_t frame = 0;
-    std::uint32_t bodies = 0, awake = 0, sectors = 0, ghosts = 0, clones = 0, degraded = 0;
+    std::uint32_t bodies = 0, awake = 0, sectors = 0, ghosts = 0, dormant = 0, clones = 0, degraded = 0;
     float step_ms = 0, wait_ms = 0, publish_ms = 0;
     std::uint64_t received_bytes = 0;
 };
@@ -260,12 +260,13 @@ int main(int argc, char** argv) {
     };
     auto print = [&](bool final) {
         std::uint32_t bodies = 0, degraded = 0;
-        std::string per_worker, ghosts, work;
+        std::string per_worker, ghosts, dormant, work;
         for (const auto& [w, s] : seen) {
             bodies += s.bodies;
             degraded += s.degraded;
             per_worker += fmt::format(" {}:{}", w, s.sectors);
             ghosts += fmt::format(" {}:{}", w, s.ghosts);
+            dormant += fmt::format(" {}:{}", w, s.dormant);
             work += fmt::format(" {}:{:.2f}ms/{:.1f}kB", w, s.step_ms + s.publish_ms,
                                 static_cast<double>(s.received_bytes) / 1e3);
         }
@@ -275,9 +276,9 @@ int main(int argc, char** argv) {
                         std::max(1e-9, std::chrono::duration<double>(Clock::now() - first_time).count())
                   : (last_frame - printed_frame) / std::max(1e-9, elapsed);
         fmt::print(
-            "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  ghosts per worker{}  "
-            "handoffs {}  degraded {}\n",
-            final ? "done: " : "", last_frame, rate, bodies, per_worker, ghosts, handoffs, degraded);
+            "{}frame {:>7}  {:7.1f} frames/s  bodies {:>6}  sectors per worker{}  ghosts per worker{} (and "
+            "kept out of the engine{})  handoffs {}  degraded {}\n",
+            final ? "done: " : "", last_frame, rate, bodies, per_worker, ghosts, dormant, handoffs, degraded);
         if (!final && !work.empty()) fmt::print("      step+publish and bytes received per worker{}\n", work);
         std::fflush(stdout);
         printed_frame = last_frame;
@@ -296,9 +297,9 @@ int main(int argc, char** argv) {
             if (!info.valid_data || m.frame() == 0 || m.worker() == 0) return;  // 0: the coordinator
             WorkerSeen& s = seen[m.worker()];
             if (m.frame() <= s.frame) return;
-            s = WorkerSeen{m.frame(),   m.bodies(),     m.awake(),         m.sector_count(),
-                           m.ghosts(),  m.clones(),     m.degraded(),      m.step_ms(),
-                           m.wait_ms(), m.publish_ms(), m.received_bytes()};
+            s = WorkerSeen{m.frame(),   m.bodies(),  m.awake(),      m.sector_count(),
+                           m.ghosts(),  m.dormant(), m.clones(),     m.degraded(),
+                           m.step_ms(), m.wait_ms(), m.publish_ms(), m.received_bytes()};
             handoffs += m.leaving().size();
             if (first_frame == 0) {
                 first_frame = m.frame();

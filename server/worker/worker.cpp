@@ -834,6 +834,7 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
     m.awake(owned.awake);
     m.sector_count(static_cast<std::uint32_t>(publisher.sector_count()));
     m.ghosts(static_cast<std::uint32_t>(w.body_count() - owned.bodies - planes.size()));
+    m.dormant(static_cast<std::uint32_t>(halo.dormant()));
     m.border_bodies(static_cast<std::uint32_t>(s.border_bodies));
     m.clones(static_cast<std::uint32_t>(s.clones));
     m.step_ms(static_cast<float>(step_ms));

@@ -898,11 +898,17 @@ TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
             }
         }
         std::printf(
-            "worker %u: %u bodies of its own, %u ghosts (bodies next to its sectors: %zu, near them: %zu), "
-            "%.1f kB received in its last frame\n",
-            worker, m.bodies(), m.ghosts(), next_to_own, near_own, m.received_bytes() / 1e3);
+            "worker %u: %u bodies of its own, %u ghosts and %u kept out of its engine (bodies next to its "
+            "sectors: %zu, near them: %zu), %.1f kB received in its last frame\n",
+            worker, m.bodies(), m.ghosts(), m.dormant(), next_to_own, near_own, m.received_bytes() / 1e3);
         // A ball that came near once stays a ghost until its sector releases the worker.
         EXPECT_LE(m.ghosts(), near_own + balls) << "worker " << worker << " holds more than what comes near";
+        // The rest of the sectors it holds it keeps as records, and nothing beyond the sectors next to its
+        // own; a sector with a body near it has others that are not (64 units wide, bodies 3 apart).
+        EXPECT_LE(m.ghosts() + m.dormant(), next_to_own + balls)
+            << "worker " << worker << " holds far sectors";
+        EXPECT_GT(m.dormant(), 0u) << "worker " << worker
+                                   << ": every body of the sectors it holds is a ghost";
         EXPECT_LT(m.bodies() + m.ghosts(), 0.6 * world) << "worker " << worker << " holds most of the world";
         EXPECT_GT(m.bodies(), 0.15 * world) << "worker " << worker << " has no share of the world";
     }
