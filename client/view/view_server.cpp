@@ -54,10 +54,16 @@ Expected<std::unique_ptr<ViewServer>> ViewServer::start(const ViewServerOptions&
             }
             res.set_content(text, "text/javascript");
         });
-    }  // A thread per open page and a few for the files; idle keep-alive connections let go after a second.
+    }  // A thread per open page and a few for the files.
     const std::size_t threads = options.max_pages + 4;
     http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-    http.set_keep_alive_timeout(1);
+    // One request per connection ("Connection: close"): an idle keep-alive connection holds one of those
+    // threads, and one the server closes after its timeout can be picked by the browser for its next
+    // request at that moment. Chromium resends such a request once; a page that lost two that way (a
+    // slow page under load, several idle sockets closed at once) failed to load with
+    // net::ERR_SOCKET_NOT_CONNECTED and never ran its script (seen in the View test, a few times in
+    // many runs). The page's dozen files over loopback cost nothing more this way.
+    http.set_keep_alive_max_count(1);
     ViewServer* self = server.get();
     http.Get("/events", [self](const httplib::Request& req, httplib::Response& res) {
         // A page may ask for fewer frames a second than --max-rate (?rate=N), never for more.

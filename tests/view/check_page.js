@@ -192,12 +192,17 @@ async function main() {
   const page = pages.length ? pages[0] : await browser.newPage();
   await page.setViewport({ width: opts.width, height: opts.height });
 
-  const consoleErrors = [], pageErrors = [], httpErrors = [];
+  const consoleErrors = [], pageErrors = [], httpErrors = [], failedRequests = [];
   page.on('console', (m) => { if (m.type() === 'error' && consoleErrors.length < 50) consoleErrors.push(m.text()); });
   page.on('pageerror', (e) => { if (pageErrors.length < 50) pageErrors.push(String(e && e.message ? e.message : e)); });
   page.on('response', (r) => { if (r.status() >= 400 && httpErrors.length < 50) httpErrors.push(`${r.status()} ${r.url()}`); });
+  // Which request failed and how (a console error says only the error): reported, not judged (a stream
+  // the page drops and opens again fails too).
+  page.on('requestfailed', (r) => {
+    if (failedRequests.length < 50) failedRequests.push(`${r.url()} (${r.failure() ? r.failure().errorText : '?'})`);
+  });
   const errorsNow = (state) => ({ page: pageErrors.slice(), view: state ? state.errors : [], console: consoleErrors.slice(),
-    http: httpErrors.slice() });
+    http: httpErrors.slice(), failed: failedRequests.slice() });
 
   const deadline = Date.now() + opts.timeoutS * 1000;
   await withTimeout(page.goto(opts.url, { waitUntil: 'domcontentloaded', timeout: opts.timeoutS * 1000 }),
