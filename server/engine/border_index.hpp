@@ -32,10 +32,10 @@ namespace lpss::engine {
 
 /// How far ahead a fat box reaches along its body's velocity, in frames (Box2D v2's predictive fat boxes,
 /// b2DynamicTree::MoveProxy, for the same reason): a body that keeps its heading stays inside for about
-/// half a second instead of the few frames its slack gives. Measured in `lpss-bench overhead` at 10,000
-/// drifting bodies against no lookahead: cloning's share of the frame 0.24 to 0.145 at L = 8 in a world's
-/// first frames and 0.128 to 0.114 once running; 0.11 to 0.057 and 0.063 to 0.052 at L = 32. 8, 16, 20,
-/// 45 and 60 frames were slower (fewer refreshes against larger queries and more partners).
+/// half a second instead of the few frames its slack gives. Measured in `lpss-bench --quick overhead` at
+/// 10,000 drifting bodies against no lookahead: cloning's share of the frame 0.24 to 0.145 at L = 8 in a
+/// world's first frames and 0.128 to 0.114 once running; 0.11 to 0.057 and 0.063 to 0.052 at L = 32. 8, 16,
+/// 20, 45 and 60 frames were slower (fewer refreshes against larger queries and more partners).
 inline constexpr double kFatLookaheadFrames = 30.0;
 
 class BorderIndex {
