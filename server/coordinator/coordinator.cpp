@@ -257,6 +257,17 @@ void Coordinator::State::pump(bool with_samples) {
             joiner_readers[m.worker()] = reader;
         }
         // A frame-0 mark naming an epoch, once the world runs: a worker asking to join (see Worker::join).
+        // An ask under the id of a worker that is not live comes from a new writer: a lapse noted under that
+        // id was its old self's (taken as gone by now), not this one's. (Kept, a standby that took over
+        // took the worker as gone the moment it let it in: "0.00 s into the frame", seen under
+        // AddressSanitizer.)
+        if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !standing_by && !live.count(m.worker())) {
+            if (auto since = lost_since.find(m.worker());
+                since != lost_since.end() && since->second.writer != info.publication_handle) {
+                lost.erase(m.worker());
+                lost_since.erase(since);
+            }
+        }
         if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !live.count(m.worker()) &&
             !admitted.count(m.worker()) && joining.insert(m.worker()).second) {
             spdlog::info("coordinator: worker {} asks to join at frame {}", m.worker(), frame);
@@ -316,9 +327,11 @@ void Coordinator::State::pump(bool with_samples) {
         auto running = running_writer.find(w);
         if (running != running_writer.end() && running->second != writer) continue;  // not the one running
         lost.insert(w);
-        lost_since[w] = Lapse{writer, std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                          std::chrono::system_clock::now().time_since_epoch())
-                                          .count()};
+        lost_since[w] = Lapse{writer,
+                              std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                  std::chrono::system_clock::now().time_since_epoch())
+                                  .count(),
+                              frame};
         spdlog::warn("coordinator: worker {} missed its liveliness lease", w);
     }
 }

@@ -148,8 +148,11 @@ struct Coordinator::State {
     struct Lapse {
         dds::fdds::InstanceHandle_t writer;
         std::int64_t at_ns = 0;
+        std::uint64_t frame =
+            0;  ///< the frame this coordinator was at (a standby: the last start it followed)
     };
     std::map<std::uint32_t, Lapse> lost_since;
+    std::uint64_t started_without_standby = 0;  ///< a standby: the last frame started without waiting for it
     /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
     /// join; then, once given sectors, the frame from which they are live.
     std::set<std::uint32_t> joining;
@@ -238,6 +241,8 @@ struct Coordinator::State {
     /// last start it holds (run() goes on from its end); 0: the cluster stopped or `stop` was set.
     Expected<std::uint64_t> follow(const std::atomic<bool>& stop);
     void take_over(const wire::FrameGo& last);
+    /// A standby forgets the lapses of workers that a frame start says ended a frame begun after them.
+    void forget_lapses_outlived(const wire::FrameGo& go);
     /// Writes a FrameAck (as a standby).
     void acknowledge(std::uint64_t frame);
     /// Reads the other coordinator's frame starts and a standby's acknowledgements (the coordinator's part).
