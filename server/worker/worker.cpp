@@ -6,9 +6,11 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <deque>
 #include <map>
 #include <optional>
 #include <set>
+#include <string>
 #include <unordered_map>
 
 #include "commands.hpp"
@@ -145,6 +147,18 @@ struct Worker::State {
     std::int32_t coordinators_alive = 0;
     dds::ConfirmedLapses<dds::fdds::InstanceHandle_t> coordinator_lapses;
     bool heard_a_coordinator = false;
+    /// The latest liveliness news of the coordinators' writers, for the log of a worker that takes itself as
+    /// cut off (under AddressSanitizer one did so as a standby took over, and the log could not say why).
+    struct LivelinessNews {
+        Clock::time_point at;
+        std::size_t writer;  ///< in the order first heard of: 1, 2, ...
+        const char* what;
+        std::int32_t alive_count;
+    };
+    std::deque<LivelinessNews> liveliness_news;
+    std::vector<dds::fdds::InstanceHandle_t> coordinator_writers;  ///< by the numbers in liveliness_news
+    void note_liveliness(const dds::fdds::InstanceHandle_t& writer, const char* what, std::int32_t alive);
+    std::string liveliness_history() const;
     void follow_coordinator_liveliness();
     bool cut_off() const {
         return heard_a_coordinator && coordinators_heard.empty() && coordinators_alive == 0;
@@ -261,9 +275,32 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     return std::unique_ptr<Worker>(new Worker(std::move(state)));
 }
 
+void Worker::State::note_liveliness(const dds::fdds::InstanceHandle_t& writer, const char* what,
+                                    std::int32_t alive) {
+    auto known = std::find(coordinator_writers.begin(), coordinator_writers.end(), writer);
+    if (known == coordinator_writers.end()) known = coordinator_writers.insert(known, writer);
+    const auto number = static_cast<std::size_t>(known - coordinator_writers.begin()) + 1;
+    liveliness_news.push_back({Clock::now(), number, what, alive});
+    if (liveliness_news.size() > 12) liveliness_news.pop_front();
+}
+
+std::string Worker::State::liveliness_history() const {
+    std::string out;
+    const auto now = Clock::now();
+    for (const LivelinessNews& n : liveliness_news) {
+        out +=
+            fmt::format("{}{:.3f} s ago, coordinators' writer {} {} ({} alive)", out.empty() ? "" : "; ",
+                        std::chrono::duration<double>(now - n.at).count(), n.writer, n.what, n.alive_count);
+    }
+    return out.empty() ? "none" : out;
+}
+
 void Worker::State::follow_coordinator_liveliness() {
     const auto now = Clock::now();
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
+        note_liveliness(change.writer,
+                        change.alive ? "alive" : (change.merged ? "lapsed (merged)" : "lapsed"),
+                        change.alive_count);
         coordinator_lapses.reported(change.writer, change.alive, now);
         if (change.merged)
             spdlog::info("worker {}: one liveliness report of two coordinators' writers ({} alive now)",
@@ -274,8 +311,10 @@ void Worker::State::follow_coordinator_liveliness() {
         if (change.alive || change.alive_count < coordinators_alive) coordinators_heard.insert(change.writer);
         coordinators_alive = change.alive_count;
     }
-    for (const dds::fdds::InstanceHandle_t& writer : coordinator_lapses.confirmed(now))
+    for (const dds::fdds::InstanceHandle_t& writer : coordinator_lapses.confirmed(now)) {
+        note_liveliness(writer, "lapse confirmed", coordinators_alive);
         coordinators_heard.erase(writer);
+    }
 }
 
 void Worker::State::forget_what_it_wrote() {
@@ -870,8 +909,8 @@ int Worker::run(const std::atomic<bool>& stop) {
             // The others are taking its sectors over; whatever it published from now on would be stale.
             spdlog::error(
                 "worker {}: no coordinator heard for its lease (cut off, or every coordinator gone) after "
-                "frame {}: stopping without publishing; it is taken as gone",
-                id, s.frame);
+                "frame {}: stopping without publishing; it is taken as gone (liveliness news: {})",
+                id, s.frame, s.liveliness_history());
             return s.sit_out(stop);
         }
         if (s.announced_without_it) {
@@ -985,8 +1024,8 @@ int Worker::run(const std::atomic<bool>& stop) {
                 // Cut off while waiting for the others' data (the wait would end degraded, then publish).
                 spdlog::error(
                     "worker {}: no coordinator heard for its lease (cut off, or every coordinator gone) "
-                    "during frame {}: stopping without publishing; it is taken as gone",
-                    id, s.frame);
+                    "during frame {}: stopping without publishing; it is taken as gone (liveliness news: {})",
+                    id, s.frame, s.liveliness_history());
                 return s.sit_out(stop);
             }
             if (Clock::now() - wait_start > s.options.border_wait) {
