@@ -90,6 +90,10 @@ struct Client::State {
     std::uint64_t inventory_since = 0;
     std::chrono::steady_clock::time_point inventory_asked;
     bool synced = false;  ///< the inventories are in: frames follow from `applied`
+    /// Syncing again: the mirror holds every followed sector as of this frame, so the workers send whole
+    /// only what was written after it (0: everything, a first sync).
+    std::uint64_t held_through = 0;
+    ClientStats stats;
     std::chrono::steady_clock::time_point synced_at;
     std::map<SectorKey, std::uint64_t> stamps;  ///< followed sectors: the frame of their latest sample
     std::set<SectorKey> unconfirmed;            ///< from inventories: not yet held at their stamp
@@ -316,7 +320,9 @@ void Client::State::take() {
         marks[{m.worker(), m.frame()}] = std::move(mark);
     });
     frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (info.valid_data) take_sample(f);
+        if (!info.valid_data) return;
+        if (f.complete()) stats.bodies_in_complete_samples += f.bodies().size();
+        take_sample(f);
     });
     results_in->take_all([&](const wire::CommandResult& r, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data || r.client() != options.name) return;
@@ -428,6 +434,7 @@ void Client::State::ask_for_inventory() {
     inventory_asked = std::chrono::steady_clock::now();
     request.request(inventory_request);
     request.inventory(true);
+    request.held_through(held_through);
     const SectorKey lo = options.region ? options.region->lo : SectorKey{INT64_MIN, INT64_MIN, INT64_MIN};
     const SectorKey hi = options.region ? options.region->hi : SectorKey{INT64_MAX, INT64_MAX, INT64_MAX};
     request.lo(dds::to_wire(lo));
@@ -490,6 +497,7 @@ bool Client::State::sync() {
             }
             applied = 0;
             synced = true;
+            ++stats.syncs;
             synced_at = std::chrono::steady_clock::now();
             forget_unlisted();
             return true;
@@ -530,6 +538,7 @@ bool Client::State::sync() {
     }
     applied = start - 1;
     synced = true;
+    ++stats.syncs;
     synced_at = std::chrono::steady_clock::now();
     forget_unlisted();
     return true;
@@ -558,6 +567,9 @@ void Client::State::forget_unlisted() {
 }
 
 void Client::State::resync() {
+    // What the mirror shows is every followed sector as of `applied`, unless frames were passed over (a
+    // gone worker's): those sectors may be older there, and everything comes again.
+    held_through = synced && passed_over.empty() ? applied : 0;
     synced = false;
     inventory_request = 0;
     for (auto& [at, mark] : marks)
@@ -902,6 +914,8 @@ const std::optional<WorldFrame>& Client::latest() const { return state_->latest;
 std::optional<SectorGrid> Client::grid() const { return state_->grid; }
 std::optional<WorldSettings> Client::settings() const { return state_->settings; }
 const std::optional<Region>& Client::region() const { return state_->options.region; }
+
+ClientStats Client::stats() const { return state_->stats; }
 
 Expected<Region> parse_region(const std::string& text) {
     const std::string usage =

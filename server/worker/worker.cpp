@@ -49,6 +49,8 @@ struct InventoryRequest {
     SectorKey lo, hi;
     std::optional<dds::GuidBytes> frames_reader;  ///< none: answered at once
     std::chrono::steady_clock::time_point asked;
+    /// The reader holds every sector as of this frame: those not written since are listed, not sent.
+    std::uint64_t held_through = 0;
 
     bool covers(const SectorKey& key) const {
         return key.i >= lo.i && key.i <= hi.i && key.j >= lo.j && key.j <= hi.j && key.k >= lo.k &&
@@ -368,8 +370,8 @@ void Worker::State::pump() {
         for (const wire::SectorKey& key : r.sectors())
             whole_requested.insert(dds::from_wire(key));  // publish() keeps those it owns
         if (r.inventory()) {
-            InventoryRequest asked{r.reader(),   r.request(), dds::from_wire(r.lo()), dds::from_wire(r.hi()),
-                                   std::nullopt, Clock::now()};
+            InventoryRequest asked{r.reader(),   r.request(),  dds::from_wire(r.lo()), dds::from_wire(r.hi()),
+                                   std::nullopt, Clock::now(), r.held_through()};
             if (r.frames_reader().size() == 16) {
                 asked.frames_reader.emplace();
                 std::copy(r.frames_reader().begin(), r.frames_reader().end(), asked.frames_reader->begin());
@@ -741,14 +743,19 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
         it = inventory_requests.erase(it);
     }
     if (!answering.empty()) {
-        publisher.for_each([&](const SectorKey& key, std::uint64_t, const dds::SectorPublisher::Counts&) {
-            for (const InventoryRequest& r : answering) {
-                if (r.covers(key) && for_joiners_queued.insert(key).second) {
-                    for_joiners_due.push_back(key);
-                    break;
+        // A sector whose latest sample is no newer than what the reader holds is listed with that frame and
+        // not sent: the reader has it (a client that fell behind a world of a million resting bodies got
+        // all of them again at each sync, and fell behind again).
+        publisher.for_each(
+            [&](const SectorKey& key, std::uint64_t stamp, const dds::SectorPublisher::Counts&) {
+                for (const InventoryRequest& r : answering) {
+                    const bool held = r.held_through != 0 && stamp <= r.held_through;
+                    if (r.covers(key) && !held && for_joiners_queued.insert(key).second) {
+                        for_joiners_due.push_back(key);
+                        break;
+                    }
                 }
-            }
-        });
+            });
     }
     std::set<SectorKey> for_joiners;
     std::size_t taken = 0;

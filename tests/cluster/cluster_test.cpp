@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -1269,6 +1270,7 @@ public:
             if (!info.valid_data || m.worker() == 0) return;
             if (old_writers_.count(info.publication_handle)) return;
             writers_.emplace(info.publication_handle, m.worker());
+            newest_ = std::max(newest_, m.frame());
             if (m.frame() <= after) return;
             std::uint32_t& most = most_[m.worker()];
             most = std::max(most, m.bodies());
@@ -1277,6 +1279,8 @@ public:
     /// From now on counts only the marks of writers not yet seen under `worker`'s id: a worker started
     /// again under it. (Frame numbers alone do not tell them apart: the killed one may have marked frames
     /// well past the last that a lagging client had seen when it was killed.)
+    /// The newest frame any worker has marked, as of the last poll.
+    std::uint64_t newest_frame() const { return newest_; }
     void forget(std::uint32_t worker) {
         poll(~std::uint64_t{0});
         for (const auto& [writer, id] : writers_)
@@ -1295,6 +1299,7 @@ private:
     std::map<std::uint32_t, std::uint32_t> most_;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writers_;
     std::set<dds::fdds::InstanceHandle_t> old_writers_;
+    std::uint64_t newest_ = 0;
 };
 
 TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
@@ -2120,6 +2125,112 @@ TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
     EXPECT_EQ(got, want);
     EXPECT_EQ(want, (std::set<BodyId>{51, 52, 53}));  // balls at 1.5 L, 3 L and 4.5 L
     cluster.process->stop();
+}
+
+TEST(Cluster, AClientThatFellBehindSyncsAgainOnWhatChangedNotOnTheWholeWorld) {
+    // A whole-world client of changes not polled for longer than the frame marks it keeps loses marks and
+    // syncs again. It holds every sector as of the last frame it applied, so the workers send whole only
+    // the sectors written since (those the balls crossed): a client that fell behind a world of a million
+    // resting bodies got every body again at each sync, and fell behind again (36 of 300 frames).
+    const Scene scene = scenes::resting_world(20000, 100);
+    const std::size_t world = scene.bodies.size();  // the ground plane too: frames show planes as bodies
+    const int domain = 178;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "fell_behind");
+    auto client = connect(domain, "fell-behind", std::nullopt, FrameContent::changes);
+    // And one that never falls behind, to compare with: a digest of every body's id and position at each
+    // frame it saw (the frames themselves, 20,000 bodies each, are too many to keep).
+    auto every = connect(domain, "every-body");
+    ASSERT_TRUE(client && every);
+    auto digest = [](BodyId id, const Eigen::Vector3d& at) {
+        std::uint64_t h = id * 0x9E3779B97F4A7C15ull;
+        for (int a = 0; a < 3; ++a) {
+            std::uint64_t bits = 0;
+            const double v = at[a];
+            std::memcpy(&bits, &v, sizeof bits);
+            h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+        }
+        return h;
+    };
+    std::map<std::uint64_t, std::uint64_t> truth, seen;  // frame -> the sum of its bodies' digests
+    auto follow_every = [&] {
+        for (const WorldFrame& f : every->poll()) {
+            std::uint64_t sum = 0;
+            for (const BodyView& b : f.bodies)
+                sum += digest(b.id, b.global);
+            truth[f.frame] = sum;
+        }
+    };
+    BodiesPerWorker marks(domain);
+    auto cluster = start_cluster(path, domain, 2, 3000, {"--realtime"});
+    ASSERT_TRUE(cluster.process);
+    std::map<BodyId, Eigen::Vector3d> held;  // rebuilt from the changes
+    std::uint64_t last = 0;
+    auto follow = [&](std::chrono::seconds limit, const std::function<bool()>& done) {
+        const auto until = std::chrono::steady_clock::now() + limit;
+        while (!done() && std::chrono::steady_clock::now() < until) {
+            follow_every();
+            for (const WorldFrame& f : client->poll(std::chrono::milliseconds(20))) {
+                if (f.every_body) held.clear();
+                for (const BodyView& b : f.bodies)
+                    held[b.id] = b.global;
+                for (BodyId id : f.departed)
+                    held.erase(id);
+                last = f.frame;
+                std::uint64_t sum = 0;
+                for (const auto& [id, at] : held)
+                    sum += digest(id, at);
+                seen[f.frame] = sum;
+            }
+        }
+    };
+    follow(std::chrono::seconds(120), [&] { return last >= 60; });
+    ASSERT_GE(last, 60u) << "logs: " << cluster.log_dir;
+    EXPECT_EQ(held.size(), world);
+    const ClientStats before = client->stats();
+    EXPECT_GE(before.syncs, 1u);
+    EXPECT_GE(before.bodies_in_complete_samples, world - 1) << "the first sync brought every body";
+    // Not polled while the world runs on by twice the marks a client keeps (120 a worker).
+    const std::uint64_t paused_at = last;
+    const auto paused = std::chrono::steady_clock::now();
+    while (marks.newest_frame() < paused_at + 240 &&
+           std::chrono::steady_clock::now() - paused < std::chrono::seconds(60)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        follow_every();
+        marks.poll(0);
+    }
+    ASSERT_GE(marks.newest_frame(), paused_at + 240) << "logs: " << cluster.log_dir;
+    follow(std::chrono::seconds(60),
+           [&] { return client->stats().syncs > before.syncs && last > paused_at + 240; });
+    // The frames after the sync do not wait for sectors the client still holds as they are, but what the
+    // workers send whole for it comes within a frame or two: counted a second later.
+    const std::uint64_t synced_at = last;
+    follow(std::chrono::seconds(30), [&] { return last >= synced_at + 60; });
+    const ClientStats after = client->stats();
+    ASSERT_GT(after.syncs, before.syncs) << "it fell behind and synced again; logs: " << cluster.log_dir;
+    ASSERT_GT(last, paused_at + 240) << "frames after the sync; logs: " << cluster.log_dir;
+    EXPECT_EQ(held.size(), world) << "every body, once synced again";
+    // As the client that never fell behind saw the same frames, before the pause and after the sync.
+    follow_every();
+    std::size_t compared = 0, differ = 0, after_sync = 0;
+    for (const auto& [f, sum] : seen) {
+        auto same = truth.find(f);
+        if (same == truth.end()) continue;
+        ++compared;
+        after_sync += f > paused_at ? 1 : 0;
+        differ += same->second != sum ? 1 : 0;
+    }
+    EXPECT_GE(after_sync, 30u) << "frames after the sync that both clients saw";
+    EXPECT_EQ(differ, 0u) << "frames of " << compared << " where a body was not where the client of every "
+                          << "body saw it";
+    const std::uint64_t resent = after.bodies_in_complete_samples - before.bodies_in_complete_samples;
+    std::printf(
+        "paused at frame %llu, frames again from %llu: %llu syncs, %llu bodies sent whole for the sync "
+        "(of %zu); %zu frames compared with the client of every body, %zu after the pause\n",
+        static_cast<unsigned long long>(paused_at), static_cast<unsigned long long>(last),
+        static_cast<unsigned long long>(after.syncs - before.syncs), static_cast<unsigned long long>(resent),
+        world, compared, after_sync);
+    EXPECT_LT(resent, world / 10) << "only what changed since the client fell behind comes whole";
 }
 
 TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {

@@ -103,6 +103,16 @@ struct WorldFrame {
     std::vector<WorkerView> workers;
 };
 
+/// What following the world has cost a client so far.
+struct ClientStats {
+    /// Syncs: the first, then one for each time it fell behind (lost frame marks) and asked the workers for
+    /// the inventories of its sectors again.
+    std::uint64_t syncs = 0;
+    /// Bodies received in complete sector samples (answers to inventories, sectors asked for whole, a
+    /// sector's first sample from a new owner): what a sync costs grows with it.
+    std::uint64_t bodies_in_complete_samples = 0;
+};
+
 /// What became of a command.
 struct CommandOutcome {
     bool applied = false;
@@ -143,6 +153,8 @@ public:
     std::optional<WorldSettings> settings() const;
     /// The region this client follows, if it follows one.
     const std::optional<Region>& region() const;
+    /// What following the world has cost so far (as of the last poll).
+    ClientStats stats() const;
 
     /// Commands: each returns a request number; outcome() tells what became of it (the newest 4,096
     /// outcomes are kept).
