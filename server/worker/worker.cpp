@@ -744,8 +744,8 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     }
     if (!answering.empty()) {
         // A sector whose latest sample is no newer than what the reader holds is listed with that frame and
-        // not sent: the reader has it (a client that fell behind a world of a million resting bodies got
-        // all of them again at each sync, and fell behind again).
+        // not sent: the reader has it (a whole-world client of a million resting bodies, which falls behind
+        // while it builds its first frame, was sent every body again, 20,000 a frame from each worker).
         publisher.for_each(
             [&](const SectorKey& key, std::uint64_t stamp, const dds::SectorPublisher::Counts&) {
                 for (const InventoryRequest& r : answering) {

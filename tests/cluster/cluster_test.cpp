@@ -2130,8 +2130,9 @@ TEST(Cluster, LateJoinerGetsTheWholeWorldAndARegionExactlyItsRegion) {
 TEST(Cluster, AClientThatFellBehindSyncsAgainOnWhatChangedNotOnTheWholeWorld) {
     // A whole-world client of changes not polled for longer than the frame marks it keeps loses marks and
     // syncs again. It holds every sector as of the last frame it applied, so the workers send whole only
-    // the sectors written since (those the balls crossed): a client that fell behind a world of a million
-    // resting bodies got every body again at each sync, and fell behind again (36 of 300 frames).
+    // the sectors written since (those the balls crossed): before, every body came again (at a million
+    // resting bodies a whole-world client falls behind while it builds its first frame, and was sent the
+    // million again).
     const Scene scene = scenes::resting_world(20000, 100);
     const std::size_t world = scene.bodies.size();  // the ground plane too: frames show planes as bodies
     const int domain = 178;
