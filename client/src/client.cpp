@@ -568,8 +568,10 @@ void Client::State::forget_unlisted() {
 
 void Client::State::resync() {
     // What the mirror shows is every followed sector as of `applied`, unless frames were passed over (a
-    // gone worker's): those sectors may be older there, and everything comes again.
-    held_through = synced && passed_over.empty() ? applied : 0;
+    // gone worker's: those sectors may be older there) or no frame has been shown since the last sync
+    // (`applied` is then where the sync starts, and sectors of the inventories may not have come): then
+    // everything comes again.
+    held_through = synced && passed_over.empty() && unconfirmed.empty() ? applied : 0;
     synced = false;
     inventory_request = 0;
     for (auto& [at, mark] : marks)

@@ -231,6 +231,7 @@ void Coordinator::State::pump(bool with_samples) {
             last_heard[m.worker()] = Clock::now();
         }
         writer_of[info.publication_handle] = m.worker();
+        newest_writer[m.worker()] = info.publication_handle;
         // Its hello before the world runs, or a mark of a frame: not a newcomer's hello or ask to join.
         if (m.frame() > 0 || frame == 0) {
             running_writer[m.worker()] = info.publication_handle;

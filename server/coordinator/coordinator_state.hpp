@@ -132,6 +132,8 @@ struct Coordinator::State {
     std::map<std::pair<std::uint32_t, std::uint64_t>, wire::WorkerFrame> marks;
     std::map<std::uint32_t, Clock::time_point> last_heard;
     std::map<dds::fdds::InstanceHandle_t, std::uint32_t> writer_of;  ///< marks writer -> its worker
+    /// Each worker id's marks writer heard from last (a worker restarted under an id writes with another).
+    std::map<std::uint32_t, dds::fdds::InstanceHandle_t> newest_writer;
     /// Each worker's marks writer that runs its frames (its hello at the start, then its marks of frames):
     /// a worker restarted under the id of one that is gone writes with another, whose ask to join must not
     /// be taken for the old one's liveliness, nor the old one's lapse for the new one's.

@@ -200,19 +200,23 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     next = dds::from_wire(go.next());
     if (next.from_frame <= frame) current = next;
     live = std::set<std::uint32_t>(current.workers.begin(), current.workers.end());
+    admitted.clear();
+    for (std::uint32_t w : next.workers) {
+        if (!live.count(w)) admitted[w] = next.from_frame;
+    }
     // The lapses of workers the coordinator no longer ran were its to act on, and it did: it took them as
-    // gone. A worker it let in again under such an id writes with another writer.
+    // gone. A worker it let in again under such an id writes with another writer; one it let in whose own
+    // writer (the newest heard under its id) lapsed is dead, and that lapse stays.
     for (auto it = lost_since.begin(); it != lost_since.end();) {
-        if (live.count(it->first)) {
+        const auto newest = newest_writer.find(it->first);
+        const bool joiners_own =
+            admitted.count(it->first) && newest != newest_writer.end() && newest->second == it->second.writer;
+        if (live.count(it->first) || joiners_own) {
             ++it;
             continue;
         }
         lost.erase(it->first);
         it = lost_since.erase(it);
-    }
-    admitted.clear();
-    for (std::uint32_t w : next.workers) {
-        if (!live.count(w)) admitted[w] = next.from_frame;
     }
     in_flight = go.handoffs();
     commands_in_flight = go.commands();
