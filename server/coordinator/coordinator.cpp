@@ -238,18 +238,13 @@ void Coordinator::State::pump(bool with_samples) {
             // Running under the id of one whose lease lapsed: started again, and the lapse was its old
             // self's. (A coordinator has taken that one as gone by now; a standby, which leaves deaths to
             // the coordinator, kept it, and took every worker ever restarted as gone at its takeover.)
-            if (auto since = lost_since.find(m.worker());
-                since != lost_since.end() && since->second.writer != info.publication_handle) {
-                lost.erase(m.worker());
-                lost_since.erase(since);
-            }
+            forget_lapse_of_another(m.worker(), info.publication_handle);
         }
         if (auto since = lost_since.find(m.worker()); since != lost_since.end() &&
                                                       since->second.writer == info.publication_handle &&
                                                       info.source_timestamp.to_ns() > since->second.at_ns) {
             spdlog::warn("coordinator: worker {} wrote a mark after its lease lapsed: alive", m.worker());
-            lost.erase(m.worker());
-            lost_since.erase(since);
+            forget_lapse(m.worker());
         }
         reaching[m.worker()] = std::set<std::uint32_t>(m.reaching().begin(), m.reaching().end());
         if (m.frame() == 0 && m.epoch() != 0 && m.sector_reader().size() == 16) {
@@ -262,15 +257,9 @@ void Coordinator::State::pump(bool with_samples) {
         // id was its old self's (taken as gone by now), not this one's. (Kept, a standby that took over
         // took the worker as gone the moment it let it in: "0.00 s into the frame", seen under
         // AddressSanitizer.)
-        if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !standing_by && !live.count(m.worker())) {
-            if (auto since = lost_since.find(m.worker());
-                since != lost_since.end() && since->second.writer != info.publication_handle) {
-                lost.erase(m.worker());
-                lost_since.erase(since);
-            }
-        }
-        if (m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !live.count(m.worker()) &&
-            !admitted.count(m.worker()) && joining.insert(m.worker()).second) {
+        const bool asks_to_join = m.frame() == 0 && m.epoch() != 0 && frame >= 1 && !live.count(m.worker());
+        if (asks_to_join && !standing_by) forget_lapse_of_another(m.worker(), info.publication_handle);
+        if (asks_to_join && !admitted.count(m.worker()) && joining.insert(m.worker()).second) {
             spdlog::info("coordinator: worker {} asks to join at frame {}", m.worker(), frame);
             joining_since[m.worker()] = Clock::now();
         }
@@ -308,8 +297,7 @@ void Coordinator::State::pump(bool with_samples) {
         } else if (auto worker = writer_of.find(change.writer); worker != writer_of.end()) {
             if (auto since = lost_since.find(worker->second);
                 since != lost_since.end() && since->second.writer == change.writer) {
-                lost.erase(worker->second);
-                lost_since.erase(since);
+                forget_lapse(worker->second);
             }
         }
     }
@@ -743,8 +731,7 @@ void Coordinator::State::take_as_gone(std::uint32_t w, const char* why) {
     restarted.erase(w);
     going.emplace(w, Going{why, seconds_since(frame_started)});
     // Its writers' later liveliness news is old news: a worker restarted under its id is another writer.
-    lost.erase(w);
-    lost_since.erase(w);
+    forget_lapse(w);
     running_writer.erase(w);
     for (auto it = writer_of.begin(); it != writer_of.end();) {
         if (it->second != w) {

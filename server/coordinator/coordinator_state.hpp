@@ -150,10 +150,20 @@ struct Coordinator::State {
     struct Lapse {
         dds::fdds::InstanceHandle_t writer;
         std::int64_t at_ns = 0;
-        std::uint64_t frame =
-            0;  ///< the frame this coordinator was at (a standby: the last start it followed)
+        /// The frame this coordinator was at (a standby: the last start it followed).
+        std::uint64_t frame = 0;
     };
     std::map<std::uint32_t, Lapse> lost_since;
+    /// The worker is not (or no longer) taken as lost: its lapse is over, or was another writer's.
+    void forget_lapse(std::uint32_t w) {
+        lost.erase(w);
+        lost_since.erase(w);
+    }
+    /// A lapse under w's id of another writer than `writer` was its old self's: w was started again.
+    void forget_lapse_of_another(std::uint32_t w, const dds::fdds::InstanceHandle_t& writer) {
+        if (auto since = lost_since.find(w); since != lost_since.end() && since->second.writer != writer)
+            forget_lapse(w);
+    }
     std::uint64_t started_without_standby = 0;  ///< a standby: the last frame started without waiting for it
     /// Workers that came to the running cluster (new, or restarted under the id of one gone) and asked to
     /// join; then, once given sectors, the frame from which they are live.

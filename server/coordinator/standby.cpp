@@ -185,8 +185,7 @@ void Coordinator::State::forget_lapses_outlived(const wire::FrameGo& go) {
             continue;
         spdlog::info("coordinator {}: worker {} ended frame {}, begun after its lease lapsed: alive",
                      options.id, w, go.frame() - 1);
-        lost.erase(w);
-        lost_since.erase(since);
+        forget_lapse(w);
     }
 }
 
@@ -216,7 +215,7 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
             continue;
         }
         lost.erase(it->first);
-        it = lost_since.erase(it);
+        it = lost_since.erase(it);  // (forget_lapse would leave `it` dangling)
     }
     in_flight = go.handoffs();
     commands_in_flight = go.commands();
