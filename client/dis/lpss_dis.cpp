@@ -10,12 +10,14 @@
 #include <cstdio>
 #include <optional>
 
+#include "crash_report.hpp"
 #include "dis_gateway.hpp"
 #include "lpss/client/client.hpp"
 #include "stop_signal.hpp"
 #include "udp_sender.hpp"
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-dis");
     CLI::App app{"lpss-dis: publishes a running lpss world as DIS Entity State PDUs"};
     lpss::ClientOptions options;
     options.name = "lpss-dis";

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "crash_report.hpp"
 #include "lpss/client/client.hpp"
 #include "lpss/common/process_memory.hpp"
 #include "lpss/common/state_csv.hpp"
@@ -44,6 +45,7 @@ struct Counts {
 }  // namespace
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-watch");
     CLI::App app{"lpss-watch: prints a running lpss world, or writes it as CSV"};
     lpss::ClientOptions options;
     options.name = "lpss-watch";

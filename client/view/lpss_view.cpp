@@ -9,11 +9,13 @@
 #include <chrono>
 #include <cstdio>
 
+#include "crash_report.hpp"
 #include "lpss/client/client.hpp"
 #include "stop_signal.hpp"
 #include "view_server.hpp"
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-view");
     CLI::App app{"lpss-view: shows a running lpss world in a web browser"};
     lpss::ClientOptions options;
     options.name = "lpss-view";

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "crash_report.hpp"
 #include "lpss/common/process_memory.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/participant.hpp"
@@ -46,6 +47,7 @@ double mib(std::uint64_t bytes) { return static_cast<double>(bytes) / 1048576.0;
 }  // namespace
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-cluster");
     CLI::App app{"lpss-cluster: runs a scene on a coordinator and N workers on this machine"};
     std::string scene_path, profile, log_dir, security;
     std::uint32_t workers = 2;
@@ -285,6 +287,7 @@ int main(int argc, char** argv) {
         last_print = Clock::now();
     };
     int exit_code = 0;
+    std::string failed_process = "the coordinator";  // the one whose exit code `exit_code` is
     bool stopping = false;
     // A worker that dies again at once (a scene that crashes it, say) is not started in a loop.
     constexpr auto kRestartInterval = std::chrono::seconds(10);
@@ -347,10 +350,10 @@ int main(int argc, char** argv) {
                     if (!said_ended[n]) {
                         said_ended[n] = true;
                         fmt::print(
-                            "lpss-cluster: worker {} ended (exit {}); the others take its sectors, or "
+                            "lpss-cluster: worker {} ended ({}); the others take its sectors, or "
                             "with none left the world waits for a worker to join (--restart-workers "
                             "starts it again)\n",
-                            w, c.exit_code().value_or(1));
+                            w, lpss::runtime::describe_exit_code(c.exit_code().value_or(1)));
                         std::fflush(stdout);
                     }
                     continue;
@@ -365,7 +368,8 @@ int main(int argc, char** argv) {
                     continue;
                 }
                 c = std::move(*again);
-                fmt::print("lpss-cluster: worker {} ended (exit {}); started again under its id\n", w, code);
+                fmt::print("lpss-cluster: worker {} ended ({}); started again under its id\n", w,
+                           lpss::runtime::describe_exit_code(code));
                 std::fflush(stdout);
             }
         }
@@ -374,9 +378,9 @@ int main(int argc, char** argv) {
             standby->exit_code().value_or(1) != 0) {
             standby_gone = true;
             fmt::print(
-                "lpss-cluster: the standby coordinator ended (exit {}): no takeover if the coordinator "
+                "lpss-cluster: the standby coordinator ended ({}): no takeover if the coordinator "
                 "ends; see {}/standby.log\n",
-                standby->exit_code().value_or(1), log_dir);
+                lpss::runtime::describe_exit_code(standby->exit_code().value_or(1)), log_dir);
             std::fflush(stdout);
         }
         if (!active->running()) {
@@ -388,8 +392,8 @@ int main(int argc, char** argv) {
                 standby->running()) {
                 taken_over = true;
                 active = &*standby;
-                fmt::print("lpss-cluster: the coordinator ended (exit {}); the standby takes over\n",
-                           exit_code);
+                fmt::print("lpss-cluster: the coordinator ended ({}); the standby takes over\n",
+                           lpss::runtime::describe_exit_code(exit_code));
                 std::fflush(stdout);
                 exit_code = 0;
                 continue;
@@ -414,7 +418,10 @@ int main(int argc, char** argv) {
     for (ChildProcess& c : children) {
         if (!c.wait(exit_code == 0 ? std::chrono::seconds(5) : std::chrono::seconds(0))) c.stop();
         const int code = c.exit_code().value_or(0);
-        if (code != 0 && exit_code == 0 && !stopping) exit_code = code;
+        if (code != 0 && exit_code == 0 && !stopping) {
+            exit_code = code;
+            failed_process = fmt::format("worker {}", &c - children.data() + 1);
+        }
     }
     marks.reset();
     status.reset();
@@ -434,8 +441,10 @@ int main(int argc, char** argv) {
             if (!last_error.empty() || line.find("[error]") != std::string::npos) last_error += line + "\n";
         }
         if (!last_error.empty()) fmt::print(stderr, "{}", last_error);
-        fmt::print(stderr, "lpss-cluster: a process failed (exit {}); see the logs in {}\n", exit_code,
-                   log_dir);
+        fmt::print(
+            stderr, "lpss-cluster: {} failed ({}); see the logs in {}\n",
+            taken_over && failed_process == "the coordinator" ? "the standby coordinator" : failed_process,
+            lpss::runtime::describe_exit_code(exit_code), log_dir);
     }
     return exit_code;
 }

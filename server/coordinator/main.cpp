@@ -4,11 +4,13 @@
 #include <CLI/CLI.hpp>
 
 #include "coordinator.hpp"
+#include "crash_report.hpp"
 #include "heap.hpp"
 #include "lpss/common/logging.hpp"
 #include "stop_signal.hpp"
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-coordinator");
     CLI::App app{"lpss-coordinator: assigns sectors, starts frames, arbitrates handoffs and commands"};
     lpss::coordinator::CoordinatorOptions o;
     std::string log_level = "info";

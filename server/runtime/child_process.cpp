@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <thread>
 
 namespace lpss::runtime {
@@ -94,6 +95,18 @@ int ChildProcess::stop(std::chrono::milliseconds grace) {
     const int code = exit_code_.value_or(255);
     pid_ = -1;
     return code;
+}
+
+std::string describe_exit_code(int code) {
+    std::string out = "exit " + std::to_string(code);
+    if (code > 128 && code < 128 + 65) {
+        const int sig = code - 128;
+        const char* abbreviation = sigabbrev_np(sig);
+        const char* description = strsignal(sig);
+        out += ": killed by SIG" + std::string(abbreviation != nullptr ? abbreviation : "?") + " (" +
+               (description != nullptr ? description : "?") + ")";
+    }
+    return out;
 }
 
 }  // namespace lpss::runtime

@@ -37,4 +37,7 @@ private:
     std::optional<int> exit_code_;
 };
 
+/// An exit code as `exit_code()` gives it, in words: "exit 3", or "exit 135: killed by SIGBUS (Bus error)".
+std::string describe_exit_code(int code);
+
 }  // namespace lpss::runtime

@@ -2,12 +2,14 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "crash_report.hpp"
 #include "heap.hpp"
 #include "lpss/common/logging.hpp"
 #include "stop_signal.hpp"
 #include "worker.hpp"
 
 int main(int argc, char** argv) {
+    lpss::runtime::install_crash_report("lpss-worker");
     CLI::App app{"lpss-worker: simulates the sectors the coordinator assigns it"};
     lpss::worker::WorkerOptions options;
     std::string log_level = "info";
