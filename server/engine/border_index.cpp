@@ -49,6 +49,9 @@ BorderIndex::BorderIndex(const WorldSettings& settings, std::vector<BodyRecord>&
       // Bullet tracks contact points up to gContactBreakingThreshold apart; its broadphase boxes carry
       // that margin once refreshed by a step, not when just inserted. Reach boxes add twice the margin.
       reach_margin_(2.0 * gContactBreakingThreshold + 0.01),
+      // A sector's anchor moving makes its broadphase boxes anew from float positions: they may differ
+      // from those measured by the rounding of coordinates up to a few sectors out.
+      overhang_tolerance_(1e-5 * settings.sector_size + 1e-4),
       bodies_(bodies),
       sectors_(sectors) {}
 
@@ -83,10 +86,31 @@ bool BorderIndex::prepare_reach(std::uint32_t slot, std::uint64_t frame) {
     const Aabb& tight = current_reach(slot, frame);
     const BodyRecord& rec = bodies_[slot];
     const BorderEntry& entry = rec.border;
+    Sector& sector = sector_of(rec);
     // What update checks before it returns early, and what relist would find to do.
-    if (!entry.has_fat || !(entry.fat_frame == sector_of(rec).key) || !entry.fat.contains(tight))
-        return false;
+    if (!entry.has_fat || !(entry.fat_frame == sector.key) || !entry.fat.contains(tight)) return false;
+    // The step moved its broadphase box within the fat box it keeps: queries of the sector must reach as
+    // far. (Only this thread steps the sector, and queries come after every thread is done.)
+    note_overhang(rec, sector);
     return entry.partners.empty() ? !entry.listed_in.valid() : entry.listed_in == rec.sector;
+}
+
+void BorderIndex::note_overhang(const BodyRecord& rec, Sector& sector) const {
+    const btBroadphaseProxy* proxy = rec.rb->getBroadphaseHandle();
+    if (proxy == nullptr) return;
+    const Eigen::Vector3d lo = sector.from_physics(proxy->m_aabbMin);
+    const Eigen::Vector3d hi = sector.from_physics(proxy->m_aabbMax);
+    const Aabb& fat = rec.border.fat;
+    const double overhang = std::max((fat.max - hi).maxCoeff(), (lo - fat.min).maxCoeff());
+    sector.fat_excess = std::max(sector.fat_excess, overhang + overhang_tolerance_);
+}
+
+void BorderIndex::note_bounds_changed(std::uint32_t slot) {
+    forget_reach(slot);
+    const BodyRecord& rec = bodies_[slot];
+    if (!rec.alive || rec.plane || !rec.border.has_fat) return;
+    Sector& sector = sector_of(rec);
+    if (rec.border.fat_frame == sector.key) note_overhang(rec, sector);
 }
 
 bool BorderIndex::reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame) {
@@ -105,11 +129,17 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     const Aabb& tight = current_reach(slot, frame);
     Sector& sector = sector_of(rec);
     BorderEntry& entry = rec.border;
-    if (entry.has_fat && entry.fat_frame == sector.key && entry.fat.contains(tight)) return;
+    if (entry.has_fat && entry.fat_frame == sector.key && entry.fat.contains(tight)) {
+        note_overhang(rec, sector);  // (a command may have moved it within its fat box)
+        return;
+    }
     // The slack: a tenth of a unit, or the distance of two frames at the current speed, whichever is
     // larger (but at most L/8): a resting body never refreshes, a moving one every few frames; and a
     // stretch along its velocity (kFatLookaheadFrames, at most L/8 long) for one that keeps its heading.
-    double slack = 0.0;
+    // A static body's slack is Bullet's contact threshold: its broadphase box gains that margin when
+    // first refreshed (its sector's anchor moving, say), and nothing makes it update then (seen in
+    // RandomCalls: a reach 0.02 out of its fat box met another's that the fat boxes missed).
+    double slack = gContactBreakingThreshold + 1e-3;
     Eigen::Vector3d ahead = Eigen::Vector3d::Zero();
     if (rec.dynamic) {
         const Eigen::Vector3d velocity = to_eigen(rec.rb->getLinearVelocity());
@@ -122,10 +152,7 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     entry.fat.max += ahead.cwiseMax(0.0);
     entry.fat_frame = sector.key;
     entry.has_fat = true;
-    // How far the fat box may reach beyond the body's broadphase box, for queries of that broadphase.
-    const Eigen::Vector3d excess = (entry.fat.max - entry.fat.min) - (tight.max - tight.min) +
-                                   2.0 * Eigen::Vector3d::Constant(reach_margin_ + slack);
-    sector.fat_excess = std::max(sector.fat_excess, excess.maxCoeff());
+    note_overhang(rec, sector);
     place_leaves(slot);
     refresh_pairs(slot);
 }

@@ -59,8 +59,14 @@ public:
     bool prepare_reach(std::uint32_t slot, std::uint64_t frame);
     /// Drops a reach computed ahead: the body was moved, pushed or changed sector since.
     void forget_reach(std::uint32_t slot) { bodies_[slot].border.reach_frame = 0; }
+    /// A command moved a body's broadphase box (set_state, a ghost update): drops its reach computed
+    /// ahead, and notes how far its fat box now reaches beyond that box, before this frame's updates
+    /// query its sector (an update of the body itself may come after theirs).
+    void note_bounds_changed(std::uint32_t slot);
     /// Whether two partners may touch in `frame`: their tight reaches meet. After this frame's updates.
     bool reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame);
+    /// A body's tight reach in `frame`, in its sector's frame (for diagnostics).
+    const Aabb& reach(std::uint32_t slot, std::uint64_t frame) { return current_reach(slot, frame); }
     /// The bodies of other sectors that may touch this one (its fat box overlaps theirs).
     const std::vector<std::uint32_t>& partners(std::uint32_t slot) const {
         return bodies_[slot].border.partners;
@@ -90,13 +96,20 @@ private:
     /// sector now are.
     void relist(std::uint32_t slot);
     bool fat_overlap(const BorderEntry& a, const BorderEntry& b) const;
+    /// Grows the sector's fat_excess to how far the body's fat box reaches beyond its broadphase box now.
+    /// A sector's bodies are found by fat box through its broadphase, which holds their broadphase boxes:
+    /// a query grown by the most any fat box overhangs its body's box finds every one it overlaps. Measured
+    /// each time a box moves (the step, a command, a new fat box), not bounded from the fat box's growth:
+    /// a box turning from 45 degrees to flat shrinks its broadphase box by more than any slack.
+    void note_overhang(const BodyRecord& record, Sector& sector) const;
     Sector& sector_of(const BodyRecord& record) const { return sectors_.at(record.sector); }
 
     SectorGrid grid_;
     double sector_size_;
     double reach_dt_;  ///< the time a tight reach sweeps: the last substep and the coming frame
     double frame_dt_;
-    double reach_margin_;  ///< contact distance added to every reach box
+    double reach_margin_;        ///< contact distance added to every reach box
+    double overhang_tolerance_;  ///< added to each overhang noted (note_overhang)
     std::vector<BodyRecord>& bodies_;
     SectorTable& sectors_;
     /// For each cell some body's fat box touches, the tree of those boxes.

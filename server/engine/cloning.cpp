@@ -11,7 +11,9 @@
 // back to its pool. Bodies far from borders have no partners and cost nothing here.
 #include <algorithm>
 
+#include <sstream>
 #include "bullet_convert.hpp"
+
 #include "prefetch.hpp"
 #include "world_impl.hpp"
 
@@ -198,18 +200,45 @@ void World::Impl::clone_stage(const std::vector<std::uint32_t>& candidates) {
 }
 
 void World::Impl::check_clones() {
+    // Every pair, not only partners: a pair the border index failed to make partners is what this must
+    // find (O(bodies^2): for tests). Two bodies of different sectors whose fat boxes overlap must be
+    // partners (the index's own invariant), and where their reaches meet a stepped one needs a clone of
+    // the other.
+    auto describe = [&](std::uint32_t slot) {
+        const BodyRecord& r = record(slot);
+        const engine::Aabb& fat = r.border.fat;
+        const engine::Aabb& reach = border.reach(slot, frame);
+        const SectorKey& key = sectors.at(r.sector).key;
+        std::ostringstream out;
+        out << "body " << r.id << " in sector (" << key.i << "," << key.j << "," << key.k << "): fat box ("
+            << fat.min.transpose() << ")-(" << fat.max.transpose() << ") in sector (" << r.border.fat_frame.i
+            << "," << r.border.fat_frame.j << "," << r.border.fat_frame.k << "), reach ("
+            << reach.min.transpose() << ")-(" << reach.max.transpose() << "), its sector's fat excess "
+            << sectors.at(r.sector).fat_excess;
+        return out.str();
+    };
     for (SectorId id : step_set) {
         const Sector& s = sectors.at(id);
-        for (std::uint32_t slot : border.partnered(s)) {
-            if (!record(slot).dynamic) continue;
-            for (std::uint32_t other : border.partners(slot)) {
-                if (!border.reaches_meet(slot, other, frame) || record(other).clone_in(id) != nullptr)
-                    continue;
-                if (clone_check_failure.empty()) {
-                    clone_check_failure = "frame " + std::to_string(frame) + ": body " +
-                                          std::to_string(record(slot).id) + " has no clone of body " +
-                                          std::to_string(record(other).id) +
-                                          " in its sector, where their reaches meet";
+        for (std::uint32_t slot : s.originals) {
+            const BodyRecord& rec = record(slot);
+            if (!rec.dynamic || !rec.border.has_fat) continue;
+            const std::vector<std::uint32_t>& partners = border.partners(slot);
+            for (std::uint32_t other = 0; other < bodies.size() && clone_check_failure.empty(); ++other) {
+                BodyRecord& them = record(other);
+                if (!them.alive || them.plane || them.sector == id || !them.border.has_fat) continue;
+                const bool partnered = std::find(partners.begin(), partners.end(), other) != partners.end();
+                const bool fat_overlap = rec.border.fat.overlaps(them.border.fat.translated(
+                    grid.centre_offset(rec.border.fat_frame, them.border.fat_frame)));
+                std::string missed;
+                if (fat_overlap && !partnered) {
+                    missed = "their fat boxes overlap, yet they are not partners";
+                } else if (border.reaches_meet(slot, other, frame) && them.clone_in(id) == nullptr) {
+                    missed = std::string("their reaches meet, yet the first has no clone of the other") +
+                             (partnered ? "" : " (they are not partners)");
+                }
+                if (!missed.empty()) {
+                    clone_check_failure = "frame " + std::to_string(frame) + ": " + missed + ": " +
+                                          describe(slot) + "; " + describe(other);
                 }
             }
         }

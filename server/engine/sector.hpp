@@ -124,8 +124,9 @@ public:
     /// enlarged-box flags, set in its solver's threads, serve the same end).
     std::vector<std::uint32_t> visits;
 
-    /// The most any original's fat reach box has extended beyond its broadphase box (reach.cpp): the
-    /// growth of queries that look for this sector's bodies by fat box.
+    /// The most any original's fat reach box has reached beyond its broadphase box, measured each time
+    /// either moved (BorderIndex::note_overhang): the growth of queries that look for this sector's
+    /// bodies by fat box. It only grows.
     double fat_excess = 0.0;
     bool awake = false;   ///< holds an awake dynamic original
     bool remote = false;  ///< simulated by another process: holds ghosts, never stepped here

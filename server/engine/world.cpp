@@ -350,6 +350,11 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
         now.setDeactivationTime(before.getDeactivationTime());
         now.setUserIndex2(static_cast<int>(Role::Original));
         clone->rb->setUserIndex2(static_cast<int>(Role::Clone));
+        // Its broadphase box is the clone's, as of the last cloning stage: a body at rest keeps it until it
+        // wakes, so its sector would find no pair for it where it is now (and its fat box would be made
+        // from where it was). Seen in RandomCalls: a body moved by set_state into a sector holding its
+        // clone.
+        dest.world.updateSingleAabb(&now);
         erase_value(dest.hosted, slot);
         from.hosted.push_back(slot);
     } else {
@@ -614,7 +619,7 @@ void World::Impl::step() {
     for (std::uint32_t slot : dirty) {
         BodyRecord& rec = record(slot);
         if (!rec.alive) continue;
-        border.forget_reach(slot);  // what the step computed ahead is stale after a command
+        border.note_bounds_changed(slot);  // what the step computed ahead is stale after a command
         if (!rec.plane) changes.touched(sector_of(rec).key, rec.id);
         if (rec.visit_frame != frame) {
             rec.visit_frame = frame;

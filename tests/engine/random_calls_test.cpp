@@ -14,6 +14,7 @@
 #include <limits>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "engine_test_support.hpp"
 
@@ -46,8 +47,10 @@ public:
         }
     }
 
-    /// Runs `calls` random calls; stops at the first broken invariant.
-    void run(int calls) {
+    /// Runs `calls` random calls; stops at the first broken invariant. With `nudges`, most moves turn a
+    /// body and shift it a little where it is (so that it keeps its fat box while its broadphase box
+    /// shrinks or grows), rather than put it anywhere.
+    void run(int calls, bool nudges = false) {
         for (int n = 0; n < calls && !::testing::Test::HasFailure(); ++n) {
             const double r = uniform(0, 1);
             if (r < 0.18)
@@ -55,7 +58,7 @@ public:
             else if (r < 0.28)
                 remove();
             else if (r < 0.48)
-                move();
+                nudges&& coin(0.8) ? nudge() : move();
             else if (r < 0.56)
                 push();
             else if (r < 0.62)
@@ -152,6 +155,24 @@ private:
         check(world_->set_state(state), movable, "set_state " + std::to_string(id));
     }
 
+    void nudge() {
+        const BodyId id = any_id();
+        const std::optional<BodySnapshot> now = world_->body(id);
+        if (!now) return move();
+        BodySnapshot state = *now;
+        for (int a = 0; a < 3; ++a)
+            state.position.local[a] += uniform(-0.15, 0.15);
+        // Any orientation: a box turned from 45 degrees to flat shrinks its broadphase box by more than
+        // a fat box's slack, and stays inside that fat box.
+        state.orientation =
+            Eigen::Quaterniond(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)).normalized();
+        state.linear_velocity = coin(0.5) ? Eigen::Vector3d::Zero().eval() : (velocity() * 0.1).eval();
+        state.angular_velocity = Eigen::Vector3d::Zero();
+        state.awake = coin(0.3);
+        const std::optional<BodyDesc> desc = world_->description(id);
+        check(world_->set_state(state), desc && desc->mass > 0, "nudge " + std::to_string(id));
+    }
+
     void push() {
         const BodyId id = any_id();
         const std::optional<BodyDesc> desc = world_->description(id);
@@ -189,15 +210,104 @@ std::uint64_t env_or(const char* name, std::uint64_t fallback) {
 
 TEST(RandomCalls, InvariantsHoldAfterEveryCall) {
     // 150 sessions of 400 calls: 60,000 calls, thousands of each kind of interleaving that empties,
-    // refills and destroys sectors.
+    // refills and destroys sectors. Then seeds that once failed, found in longer runs (LPSS_RANDOM_SEEDS):
+    // 2015, a body at rest moved into a sector holding its clone kept the clone's broadphase box there;
+    // 2488, a static body's broadphase box outgrew its fat box by Bullet's contact threshold.
+    const std::vector<std::uint64_t> failed_once = {2015, 2488};
     const std::uint64_t one = env_or("LPSS_RANDOM_SEED", 0);
-    const std::uint64_t sessions = one ? 1 : env_or("LPSS_RANDOM_SEEDS", 150);
+    const std::uint64_t random = env_or("LPSS_RANDOM_SEEDS", 150);
+    const std::uint64_t sessions = one ? 1 : random + failed_once.size();
     for (std::uint64_t n = 0; n < sessions && !HasFailure(); ++n) {
-        const std::uint64_t seed = one ? one : 1000 + n;
+        const std::uint64_t seed = one ? one : n < random ? 1000 + n : failed_once[n - random];
         SCOPED_TRACE("seed " + std::to_string(seed) +
                      " (rerun with LPSS_RANDOM_SEED=" + std::to_string(seed) + ")");
         RandomSession(seed).run(400);
     }
+}
+
+TEST(RandomCalls, BodiesTurnedWhereTheyAreKeepEveryCloneTheyNeed) {
+    // Bodies turned and shifted a little where they are, near borders: their broadphase boxes shrink and
+    // grow inside fat boxes they keep, and a query of their sector must still find them by fat box (a
+    // sector's fat_excess, border_index.hpp). 100 sessions of 400 calls.
+    const std::uint64_t one = env_or("LPSS_RANDOM_SEED", 0);
+    const std::uint64_t sessions = one ? 1 : env_or("LPSS_RANDOM_SEEDS", 100);
+    for (std::uint64_t n = 0; n < sessions && !HasFailure(); ++n) {
+        const std::uint64_t seed = one ? one : 5000 + n;
+        SCOPED_TRACE("seed " + std::to_string(seed) +
+                     " (rerun with LPSS_RANDOM_SEED=" + std::to_string(seed) + ")");
+        RandomSession(seed).run(400, true);
+    }
+}
+
+TEST(RandomCalls, ABoxTurnedFlatWhereItIsIsStillFoundByItsFatBox) {
+    // A box at 45 degrees next to a border gets its fat box; turned flat and shifted where it is, it keeps
+    // that fat box while its broadphase box shrinks (its fat box then overhangs it by as much as 0.58 in
+    // this sweep, where the bound once computed from the fat box's growth said 0.5). A body across the border
+    // then gets a fat box of its own that may overlap the box's only at its edge, and the box comes back
+    // towards it within its own fat box. Swept over where the box stands, how far it shifts, where the other
+    // body goes and where the box ends. (The old bound passed this too: Bullet's broadphase tree keeps a
+    // leaf's box until the body leaves it, so the query still met the box as it stood at 45 degrees. The
+    // bound is now measured, and holds without leaning on that.)
+    int worlds = 0;
+    int cloned = 0;
+    for (double box_x = 4.8; box_x <= 5.61 && !HasFailure(); box_x += 0.1) {
+        for (double shift = 0.0; shift <= 0.36 && !HasFailure(); shift += 0.06) {
+            for (double other_x = 3.0; other_x <= 4.21 && !HasFailure(); other_x += 0.05) {
+                for (double back = 0.0; back <= 0.31 && !HasFailure(); back += 0.1) {
+                    WorldSettings settings;
+                    settings.sector_size = kL;
+                    settings.gravity = Eigen::Vector3d::Zero();
+                    settings.sleeping = false;
+                    EngineOptions options;
+                    options.check_clones = true;
+                    World world = World::create(settings, options).value();
+                    BodyDesc box;
+                    box.id = 2;
+                    box.name = "box";
+                    box.shape = Box{Eigen::Vector3d::Constant(0.5)};
+                    box.mass = 1;
+                    box.position = Eigen::Vector3d(box_x, 0, 0);
+                    box.orientation =
+                        Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()));
+                    BodyDesc ball;
+                    ball.id = 3;
+                    ball.name = "ball";
+                    ball.shape = Sphere{0.5};
+                    ball.mass = 1;
+                    ball.position = Eigen::Vector3d(2.0, 0, 0);
+                    ASSERT_TRUE(world.add_body(box));
+                    ASSERT_TRUE(world.add_body(ball));
+                    auto place = [&](BodyId id, double x, const Eigen::Quaterniond& q) {
+                        BodySnapshot s;
+                        s.id = id;
+                        s.position = world.grid().from_global(Eigen::Vector3d(x, 0, 0)).value();
+                        s.orientation = q;
+                        s.awake = true;
+                        ASSERT_TRUE(world.set_state(s));
+                    };
+                    auto step = [&](const char* after) {
+                        world.step();
+                        const Status st = world.check_consistency();
+                        EXPECT_TRUE(st) << after << " (box at " << box_x << ", shifted " << shift
+                                        << ", other body at " << other_x << "): " << st.error().message;
+                    };
+                    step("the first step");
+                    place(2, box_x + shift, Eigen::Quaterniond::Identity());
+                    step("the box turned flat");
+                    place(3, other_x, Eigen::Quaterniond::Identity());
+                    step("the other body moved");
+                    place(2, box_x - back, Eigen::Quaterniond::Identity());
+                    step("the box back towards it");
+                    ++worlds;
+                    if (world.last_frame_stats().clones > 0) ++cloned;
+                }
+            }
+        }
+    }
+    EXPECT_GT(worlds, 1000);
+    // Many end with the two near enough across the border to need clones: the case is there.
+    EXPECT_GT(cloned, worlds / 10);
+    std::printf("%d worlds, %d with clones at the end\n", worlds, cloned);
 }
 
 TEST(RandomCalls, ARemovalDestroysASectorStillQueuedForDestruction) {

@@ -49,7 +49,8 @@ struct EngineOptions {
     /// to check that equality.
     bool group_small_sectors = true;
     /// For tests: after every cloning stage, check that each dynamic body of a stepped sector has there a
-    /// clone of every partner whose reach meets its own; check_consistency reports the first that did not.
+    /// clone of every body of another sector whose reach meets its own (partners or not: O(bodies^2));
+    /// check_consistency reports the first that did not.
     bool check_clones = false;
     /// Which sectors this engine simulates (every sector when empty). A body in a sector it does not own
     /// is a *ghost*: a copy of a body another process simulates, kept so that it can be cloned across
