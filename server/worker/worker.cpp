@@ -212,6 +212,10 @@ struct Worker::State {
     std::vector<wire::WrittenSector> publish();
     std::vector<wire::SectorFrame> outgoing;
     void mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms, double publish_ms);
+    /// Before the worker goes: waits, up to `limit` in all, until every reader has acknowledged what it
+    /// wrote. Reliable delivery ends with the participant: a datagram of the last frame lost on the way
+    /// (a reader under load) could not be sent again, and that reader would never see the last frame.
+    void deliver_before_going(std::chrono::milliseconds limit);
 };
 
 Worker::Worker(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -284,6 +288,23 @@ void Worker::State::note_liveliness(const dds::fdds::InstanceHandle_t& writer, c
     const auto number = static_cast<std::size_t>(known - coordinator_writers.begin()) + 1;
     liveliness_news.push_back({Clock::now(), number, what, alive});
     if (liveliness_news.size() > 12) liveliness_news.pop_front();
+}
+
+void Worker::State::deliver_before_going(std::chrono::milliseconds limit) {
+    const auto deadline = Clock::now() + limit;
+    bool all = true;
+    auto left = [&] {
+        return std::max(std::chrono::milliseconds(1),
+                        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()));
+    };
+    all = frames_out->delivered(left()) && all;
+    all = marks_out->delivered(left()) && all;
+    all = results_out->delivered(left()) && all;
+    if (!all)
+        spdlog::info(
+            "worker {}: not every reader acknowledged what this worker wrote within {} ms (a reader killed "
+            "earlier stays matched for a while)",
+            options.id, limit.count());
 }
 
 std::string Worker::State::liveliness_history() const {
@@ -1017,6 +1038,7 @@ int Worker::run(const std::atomic<bool>& stop) {
         s.gate.started(go.frame());
         if (go.stop()) {
             spdlog::info("worker {}: stopped by the coordinator after frame {}", id, s.frame);
+            s.deliver_before_going(std::chrono::seconds(1));
             return 0;
         }
         if (!s.world && !s.start_world(go, stop)) return 4;
