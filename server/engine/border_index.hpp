@@ -52,8 +52,10 @@ public:
     void update(std::uint32_t slot, std::uint64_t frame);
     /// Computes a body's tight reach for `frame` ahead of update, from the thread that has just stepped
     /// its sector (where the body is in cache, and in parallel: Box2D checks its fat boxes in the
-    /// solver's threads for the same reason). Touches only this body's entry. Whatever changes the body
-    /// before that frame's update must call forget_reach and have the body updated. Returns whether that
+    /// solver's threads for the same reason). Touches only this body's entry and its sector's
+    /// fat_excess (note_overhang): a sector is stepped by one thread. Whatever changes the body
+    /// before that frame's update must call forget_reach (note_bounds_changed if it moved the body's
+    /// broadphase box) and have the body updated. Returns whether that
     /// update would have nothing to do: the reach within its fat box, in the box's sector, the body
     /// listed as its partners say.
     bool prepare_reach(std::uint32_t slot, std::uint64_t frame);
