@@ -261,20 +261,11 @@ TEST(RandomCalls, ABoxTurnedFlatWhereItIsIsStillFoundByItsFatBox) {
                     EngineOptions options;
                     options.check_clones = true;
                     World world = World::create(settings, options).value();
-                    BodyDesc box;
-                    box.id = 2;
-                    box.name = "box";
-                    box.shape = Box{Eigen::Vector3d::Constant(0.5)};
-                    box.mass = 1;
-                    box.position = Eigen::Vector3d(box_x, 0, 0);
+                    BodyDesc box = scenes::box_body(2, Eigen::Vector3d::Constant(0.5), 1.0,
+                                                    Eigen::Vector3d(box_x, 0, 0).eval());
                     box.orientation =
                         Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()));
-                    BodyDesc ball;
-                    ball.id = 3;
-                    ball.name = "ball";
-                    ball.shape = Sphere{0.5};
-                    ball.mass = 1;
-                    ball.position = Eigen::Vector3d(2.0, 0, 0);
+                    const BodyDesc ball = scenes::sphere_body(3, 0.5, 1.0, Eigen::Vector3d(2.0, 0, 0).eval());
                     ASSERT_TRUE(world.add_body(box));
                     ASSERT_TRUE(world.add_body(ball));
                     auto place = [&](BodyId id, double x, const Eigen::Quaterniond& q) {
