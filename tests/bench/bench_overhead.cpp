@@ -95,6 +95,7 @@ void run_overhead(const Context& context) {
     std::string plot =
         R"(set multiplot layout 1,3 title 'Cost of sectorization and cloning (solid: frames 61-120, dashed: frames 6-35)'
 set logscale xy
+set format y '%g'
 set xrange [600:170000]
 set xlabel 'bodies'
 set ylabel 'milliseconds per frame'

@@ -3,6 +3,7 @@ set terminal pngcairo size 1400,900 font 'Sans,11'
 set output 'docs/results/overhead/overhead.png'
 set multiplot layout 1,3 title 'Cost of sectorization and cloning (solid: frames 61-120, dashed: frames 6-35)'
 set logscale xy
+set format y '%g'
 set xrange [600:170000]
 set xlabel 'bodies'
 set ylabel 'milliseconds per frame'
