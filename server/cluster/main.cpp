@@ -287,7 +287,7 @@ int main(int argc, char** argv) {
         last_print = Clock::now();
     };
     int exit_code = 0;
-    std::string failed_process = "the coordinator";  // the one whose exit code `exit_code` is
+    std::optional<std::size_t> failed_worker;  // whose exit code `exit_code` is, if not a coordinator's
     bool stopping = false;
     // A worker that dies again at once (a scene that crashes it, say) is not started in a loop.
     constexpr auto kRestartInterval = std::chrono::seconds(10);
@@ -420,7 +420,7 @@ int main(int argc, char** argv) {
         const int code = c.exit_code().value_or(0);
         if (code != 0 && exit_code == 0 && !stopping) {
             exit_code = code;
-            failed_process = fmt::format("worker {}", &c - children.data() + 1);
+            failed_worker = static_cast<std::size_t>(&c - children.data()) + 1;
         }
     }
     marks.reset();
@@ -441,10 +441,11 @@ int main(int argc, char** argv) {
             if (!last_error.empty() || line.find("[error]") != std::string::npos) last_error += line + "\n";
         }
         if (!last_error.empty()) fmt::print(stderr, "{}", last_error);
-        fmt::print(
-            stderr, "lpss-cluster: {} failed ({}); see the logs in {}\n",
-            taken_over && failed_process == "the coordinator" ? "the standby coordinator" : failed_process,
-            lpss::runtime::describe_exit_code(exit_code), log_dir);
+        fmt::print(stderr, "lpss-cluster: {} failed ({}); see the logs in {}\n",
+                   failed_worker ? fmt::format("worker {}", *failed_worker)
+                   : taken_over  ? std::string("the standby coordinator")
+                                 : std::string("the coordinator"),
+                   lpss::runtime::describe_exit_code(exit_code), log_dir);
     }
     return exit_code;
 }

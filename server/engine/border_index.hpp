@@ -67,6 +67,10 @@ public:
     void note_bounds_changed(std::uint32_t slot);
     /// Whether two partners may touch in `frame`: their tight reaches meet. After this frame's updates.
     bool reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame);
+    /// Whether two bodies' fat boxes overlap (both placed): what makes them partners.
+    bool fat_boxes_overlap(std::uint32_t a, std::uint32_t b) const {
+        return fat_overlap(bodies_[a].border, bodies_[b].border);
+    }
     /// A body's tight reach in `frame`, in its sector's frame (for diagnostics).
     const Aabb& reach(std::uint32_t slot, std::uint64_t frame) { return current_reach(slot, frame); }
     /// The bodies of other sectors that may touch this one (its fat box overlaps theirs).

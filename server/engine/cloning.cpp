@@ -227,10 +227,8 @@ void World::Impl::check_clones() {
                 BodyRecord& them = record(other);
                 if (!them.alive || them.plane || them.sector == id || !them.border.has_fat) continue;
                 const bool partnered = std::find(partners.begin(), partners.end(), other) != partners.end();
-                const bool fat_overlap = rec.border.fat.overlaps(them.border.fat.translated(
-                    grid.centre_offset(rec.border.fat_frame, them.border.fat_frame)));
                 std::string missed;
-                if (fat_overlap && !partnered) {
+                if (!partnered && border.fat_boxes_overlap(slot, other)) {
                     missed = "their fat boxes overlap, yet they are not partners";
                 } else if (border.reaches_meet(slot, other, frame) && them.clone_in(id) == nullptr) {
                     missed = std::string("their reaches meet, yet the first has no clone of the other") +
