@@ -175,6 +175,15 @@ inline GuidBytes guid_bytes(const fdds::InstanceHandle_t& handle) {
     return guid_bytes(guid);
 }
 
+/// The participant an endpoint belongs to: the first 12 bytes of its GUID (its prefix).
+using ParticipantPrefix = std::array<std::uint8_t, 12>;
+inline ParticipantPrefix participant_of(const fdds::InstanceHandle_t& handle) {
+    const GuidBytes guid = guid_bytes(handle);
+    ParticipantPrefix out{};
+    std::copy(guid.begin(), guid.begin() + 12, out.begin());
+    return out;
+}
+
 /// A typed data writer; counts the readers it has matched.
 template <class T>
 class Writer : public fdds::DataWriterListener {

@@ -386,10 +386,18 @@ int main(int argc, char** argv) {
         if (!active->running()) {
             exit_code = active->exit_code().value_or(1);
             // A coordinator killed (a signal, not an exit that says why), or one that found its standby had
-            // taken over (exit 6: it was stopped or cut off past its lease), once the world runs, while its
-            // standby runs: the standby goes on with the world.
-            if ((exit_code >= 128 || exit_code == 6) && last_frame > 0 && !taken_over && standby &&
-                standby->running()) {
+            // taken over (exit 6: it was stopped or cut off past its lease), while its standby runs: the
+            // standby goes on with the world (before frame 1, it starts the world from the scene if the
+            // coordinator had sent none of it, or says why it cannot).
+            // (A coordinator that yields, exit 6, may end after its standby ran the world to its end.)
+            if (exit_code == 6 && !taken_over && standby && !standby->running() &&
+                standby->exit_code().value_or(1) == 0) {
+                taken_over = true;
+                active = &*standby;
+                exit_code = 0;
+                break;
+            }
+            if ((exit_code >= 128 || exit_code == 6) && !taken_over && standby && standby->running()) {
                 taken_over = true;
                 active = &*standby;
                 fmt::print("lpss-cluster: the coordinator ended ({}); the standby takes over\n",

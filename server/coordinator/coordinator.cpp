@@ -61,6 +61,7 @@ Coordinator::~Coordinator() {
     state_->assignment_in.reset();
     state_->planes_in.reset();
     state_->results_in.reset();
+    state_->status_in.reset();
 }
 
 Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOptions& options) {
@@ -117,6 +118,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
             std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
+    state->status_in = std::make_unique<Reader<wire::ClusterStatus>>(
+        p, p.topic<wire::ClusterStatusPubSubType>(kStatus), reader_qos(kStateDelivery), &state->inbox);
     state->marks_in =
         std::make_unique<Reader<wire::WorkerFrame>>(p, marks, reader_qos(kWorkerMarks), &state->inbox);
     state->commands_in =
@@ -127,8 +130,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
         !state->results_out->ok() || !state->marks_out->ok() || !state->sectors_out->ok() ||
         (state->first_state_out && !state->first_state_out->ok()) || !state->status_out->ok() ||
-        !state->marks_in->ok() || !state->commands_in->ok() || !state->sectors_in->ok() ||
-        !state->go_in->ok() || !state->acks_in->ok()) {
+        !state->status_in->ok() || !state->marks_in->ok() || !state->commands_in->ok() ||
+        !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers"};
     }
     // Beats within the lease, as workers' marks: a standby takes over when the coordinator's lapse.
@@ -185,6 +188,7 @@ int Coordinator::State::take_sector_samples(std::uint64_t at_most) {
             // body is.
             if (!standing_by || info.publication_handle == sectors_out->raw()->get_instance_handle()) return;
             if (f.frame() == 0) {
+                first_state_begun = true;
                 for (const wire::BodyKind& kind : f.kinds())
                     statics.emplace(kind.id(), kind.mass() == 0.0);
             }
@@ -203,6 +207,7 @@ void Coordinator::State::pump(bool with_samples) {
             // frames it wrote sector samples for.
             if (!standing_by || info.publication_handle == marks_out->raw()->get_instance_handle()) return;
             if (m.frame() == 0) {
+                first_state_begun = true;
                 first_state.emplace();
                 for (const wire::WrittenSector& w : m.written())
                     first_state->push_back(dds::from_wire(w.sector()));
@@ -280,6 +285,9 @@ void Coordinator::State::pump(bool with_samples) {
     for (const dds::Inbox::Liveliness& change : inbox.take_liveliness()) {
         // Every writer's report counts, known or not: a false one comes right after a real one.
         lapses.reported(change.writer, change.alive, now);
+        // Before frame 1 a standby knows the coordinator by its participant, which it may learn later.
+        if (standing_by && !primary_writer && change.alive)
+            heard_alive_before_frame_1.insert(dds::participant_of(change.writer));
         if (change.merged)
             spdlog::warn(
                 "coordinator {}: one liveliness report merged several writers' changes; it names one",
@@ -292,7 +300,7 @@ void Coordinator::State::pump(bool with_samples) {
                 spdlog::warn("coordinator {}: standby coordinator {} is back: frames wait for it again",
                              options.id, standby);
             }
-        } else if (primary_writer && change.writer == *primary_writer) {
+        } else if (is_primary(change.writer)) {
             primary_lost = false;
         } else if (auto worker = writer_of.find(change.writer); worker != writer_of.end()) {
             if (auto since = lost_since.find(worker->second);
@@ -306,7 +314,7 @@ void Coordinator::State::pump(bool with_samples) {
             standby_lost = true;
             continue;
         }
-        if (primary_writer && writer == *primary_writer) {
+        if (is_primary(writer)) {
             primary_lost = true;
             continue;
         }
@@ -395,6 +403,23 @@ void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wir
     owners.applied(up_to, refused_samples);
 }
 
+Status Coordinator::State::check_not_replaced() {
+    // Only the coordinator started as one: a standby that starts the world does so because this one's
+    // lease lapsed, and must not yield to it in turn.
+    if (options.standby) return {};
+    // A standby writes no status while it stands by: any word of another coordinator's is that it leads. (Or
+    // a start under a higher term, which pump() reads: the standby may be past frame 1 already.)
+    std::optional<std::uint32_t> other;
+    status_in->take_all([&](const wire::ClusterStatus& st, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data && st.coordinator() != options.id) other = st.coordinator();
+    });
+    if (!other && !fenced) return {};
+    fenced = true;
+    return Error{"coordinator " + (other ? std::to_string(*other) : std::string("of a higher term")) +
+                 " started the world while this one read the scene (this one's lease lapsed: it was stopped "
+                 "or cut off): stopping"};
+}
+
 Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     const auto load_start = Clock::now();
     spdlog::info("coordinator: loading {}", options.scene_path);
@@ -405,6 +430,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     grid = SectorGrid(settings.sector_size);
     spdlog::info("coordinator: {} bodies read and checked in {:.2f} s", scene.bodies.size(),
                  seconds_since(load_start));
+    if (Status st = check_not_replaced(); !st) return st;
     status("loading", 1.0, scene.bodies.size());
 
     // The workers announce themselves with frame 0.
@@ -417,6 +443,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         }
         if (missing.empty()) break;
         if (stop.load()) return Error{"stopped"};
+        if (Status st = check_not_replaced(); !st) return st;
         if (Clock::now() - wait_start > options.worker_wait) {
             std::string list;
             for (std::uint32_t w : missing)
@@ -466,6 +493,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     next = current;
     publish_assignment();
 
+    if (Status st = check_not_replaced(); !st) return st;
     // The world's first state, sector by sector, to the workers that hold each (writers filter for their
     // readers' recipient filters), in the scene's order so that workers add bodies as lpss-sim does.
     // Workers that are there have matched this writer; a later one gets these samples from its history.
@@ -536,6 +564,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     // A standby, if one was asked for: from frame 1 on, every frame waits until it holds the frame's start.
     for (auto said = Clock::now(); options.await_standby && standby == 0;) {
         if (stop.load()) return Error{"stopped"};
+        if (Status st = check_not_replaced(); !st) return st;
         if (Clock::now() - said > std::chrono::seconds(5)) {
             said = Clock::now();
             spdlog::info("coordinator: frame 1 waits for a standby coordinator");
@@ -1165,6 +1194,8 @@ int Coordinator::run(const std::atomic<bool>& stop) {
     // A standby goes on from the last frame start of the coordinator it took over from: that frame runs,
     // and this coordinator waits for its end.
     std::uint64_t first = 1;
+    bool resumes = false;  // a standby that took over, from the coordinator's last start
+    bool loads = !o.standby;
     if (o.standby) {
         Expected<std::uint64_t> from = s.follow(stop);
         if (!from) {
@@ -1172,20 +1203,32 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             return 3;
         }
         if (*from == 0) return 0;  // stopped, or the cluster ended
-        first = *from;
-    } else if (Status st = s.load_and_seed(stop); !st) {
-        if (stop.load()) return 0;
-        spdlog::error("coordinator: {}", st.error().message);
-        return 3;
+        if (*from == State::kStartTheWorld) {
+            s.start_instead();
+            loads = true;
+        } else {
+            first = *from;
+            resumes = true;
+        }
+    }
+    if (loads) {
+        if (Status st = s.load_and_seed(stop); !st) {
+            if (stop.load()) return 0;
+            if (s.fenced) {
+                spdlog::warn("coordinator {}: {}", o.id, st.error().message);
+                return 6;
+            }
+            spdlog::error("coordinator: {}", st.error().message);
+            return 3;
+        }
     }
 
     const auto start = Clock::now();
     auto last_log = start;
-    RealtimePacer pacer(start, s.settings.dt, o.standby ? first + 1 : 1,
-                        o.standby ? s.last_go.time_lost() : 0.0);
+    RealtimePacer pacer(start, s.settings.dt, resumes ? first + 1 : 1, resumes ? s.last_go.time_lost() : 0.0);
     for (std::uint64_t f = first;; ++f) {
         if (s.fenced) return 6;
-        const bool taken_over = o.standby && f == first;  // its start was the coordinator's
+        const bool taken_over = resumes && f == first;  // its start was the coordinator's
         if (!taken_over) {
             s.frame = f - 1;
             const bool finished = (o.frames > 0 && f > o.frames) || stop.load();

@@ -80,7 +80,11 @@ struct Coordinator::State {
     std::unique_ptr<dds::Reader<wire::Assignment>> assignment_in;   ///< as a standby
     std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;  ///< as a standby
     std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;   ///< as a standby: refusals given
-    std::unique_ptr<dds::LivelinessBeat> go_beat;                   ///< keeps its frame starts' lease
+    /// The other coordinator's status. A standby learns from the coordinator's first word which participant
+    /// it follows; a coordinator that reads the scene learns from any word of its standby's (which writes
+    /// none while it stands by) that the standby started the world instead of it (check_not_replaced).
+    std::unique_ptr<dds::Reader<wire::ClusterStatus>> status_in;
+    std::unique_ptr<dds::LivelinessBeat> go_beat;     ///< keeps its frame starts' lease
     std::unique_ptr<dds::LivelinessBeat> acks_beat;   ///< keeps its acknowledgements' lease, as a standby
     std::unique_ptr<dds::LivelinessBeat> marks_beat;  ///< keeps its marks' lease (as worker 0)
 
@@ -89,7 +93,23 @@ struct Coordinator::State {
     bool standing_by = false;
     std::optional<dds::fdds::InstanceHandle_t> primary_writer;  ///< the followed coordinator's frame starts
     bool primary_lost = false;                                  ///< their liveliness lapsed (confirmed)
-    bool standby_lost = false;                                  ///< the standby's acknowledgements' lapsed
+    /// The followed coordinator's participant (its writers' GUID prefix), from its status: before frame 1
+    /// no frame start has named its writer, and the lapse of any of its leased writers is its end.
+    std::optional<dds::ParticipantPrefix> primary_participant;
+    /// Whether a lapse (or a return) reported for `writer` is the followed coordinator's.
+    bool is_primary(const dds::fdds::InstanceHandle_t& writer) const {
+        if (primary_writer) return writer == *primary_writer;
+        return standing_by && primary_participant && dds::participant_of(writer) == *primary_participant;
+    }
+    /// Status writers matched when the coordinator's status came: fewer, and its participant is gone.
+    int status_writers = 0;
+    /// As a standby before frame 1: the participants whose leased writers were heard alive. Only a writer
+    /// heard alive is heard to lapse: the standby says once that it would notice the coordinator's end.
+    std::set<dds::ParticipantPrefix> heard_alive_before_frame_1;
+    bool said_it_follows = false;
+    /// As a standby: some of the world's first state came (a sample of it, or the mark that lists it).
+    bool first_state_begun = false;
+    bool standby_lost = false;  ///< the standby's acknowledgements' lapsed
     /// The sectors of the world's first state, from the coordinator's mark of frame 0 (as a standby).
     std::optional<std::vector<SectorKey>> first_state;
     /// Another coordinator started frames under a higher term: this one was taken over from.
@@ -214,6 +234,9 @@ struct Coordinator::State {
 
     void status(const std::string& phase, double progress, std::uint64_t bodies);
     Status load_and_seed(const std::atomic<bool>& stop);
+    /// While it loads, as the coordinator started as one: an error (and `fenced`) once its standby has
+    /// started the world instead (its lease lapsed while it read the scene: it was stopped or cut off).
+    Status check_not_replaced();
     /// Takes what has come: the workers' marks, liveliness changes, other coordinators' words and, unless
     /// `with_samples` is false, sector samples (take_sector_samples).
     void pump(bool with_samples = true);
@@ -250,9 +273,14 @@ struct Coordinator::State {
     /// The body set as a command another coordinator applied changes it (spawn, removal), for a standby.
     void follow_bodies(const wire::Command& c);
     /// Standing by: follows the coordinator until it is gone, then takes over. The frame of the coordinator's
-    /// last start it holds (run() goes on from its end); 0: the cluster stopped or `stop` was set.
+    /// last start it holds (run() goes on from its end); 0: the cluster stopped or `stop` was set;
+    /// kStartTheWorld: the coordinator went before it sent any of the world (start_instead).
     Expected<std::uint64_t> follow(const std::atomic<bool>& stop);
+    static constexpr std::uint64_t kStartTheWorld = ~std::uint64_t{0};
     void take_over(const wire::FrameGo& last);
+    /// The coordinator went while it read the scene, before any worker had a word of the world: this standby
+    /// becomes the coordinator, under the next term, and run() loads the scene as the coordinator would have.
+    void start_instead();
     /// A standby forgets the lapses of workers that a frame start says ended a frame begun after them.
     void forget_lapses_outlived(const wire::FrameGo& go);
     /// Writes a FrameAck (as a standby).

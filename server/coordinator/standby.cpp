@@ -12,6 +12,7 @@
 #include "coordinator_state.hpp"
 #include "heap.hpp"
 #include "lpss_dds/convert.hpp"
+#include "lpss_dds/topics.hpp"
 
 namespace lpss::coordinator {
 
@@ -155,6 +156,36 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             const bool run = r.first_request() != 0 && r.first_request() < r.request();
             standing_commands.forget(r.client(), run ? r.first_request() : r.request(), r.request());
         });
+        // The coordinator's first word names its participant: before frame 1 that is how its end is known.
+        status_in->take_all([&](const wire::ClusterStatus& st, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data || st.coordinator() == options.id || primary_participant) return;
+            primary_participant = dds::participant_of(info.publication_handle);
+            status_writers = status_in->matched();
+        });
+        // Its participant gone (its lease ran out), should its writers' lapse not have been heard here (a
+        // coordinator killed before its first liveliness beat reached this standby).
+        if (!last && primary_participant && status_in->matched() < status_writers) primary_lost = true;
+        if (!last && primary_participant && !said_it_follows &&
+            heard_alive_before_frame_1.count(*primary_participant)) {
+            said_it_follows = true;
+            spdlog::info(
+                "coordinator {}: follows the coordinator, which reads the scene; should it go before it "
+                "sends "
+                "any of the world, this standby starts the world",
+                options.id);
+        }
+        if (primary_lost && !last) {
+            // Gone before frame 1. While it read the scene no worker had a word of the world, and this
+            // standby can start it from the scene as well (a million bodies take half a minute to read: a
+            // coordinator killed then ended the world). Once some of the first state went out, workers may
+            // hold samples of it that this one would not write alike (another assignment, if a worker went
+            // too): it does not start a second world over them.
+            if (first_state_begun)
+                return Error{
+                    "the coordinator is gone while it sent the world's first state, before frame 1: this "
+                    "standby cannot take over (it takes over from a frame start, and none came)"};
+            return kStartTheWorld;
+        }
         if (primary_lost && last) {
             if (last->standby() != options.id)
                 return Error{
@@ -187,6 +218,26 @@ void Coordinator::State::forget_lapses_outlived(const wire::FrameGo& go) {
                      options.id, w, go.frame() - 1);
         forget_lapse(w);
     }
+}
+
+void Coordinator::State::start_instead() {
+    standing_by = false;
+    // The coordinator that went never started a frame: its term was the first.
+    term = 2;
+    // What it wrote of the world before it went (the planes, durable) comes again from the scene.
+    statics.clear();
+    planes.clear();
+    plane_descriptions.clear();
+    largest_radius = 0.0;
+    dds::Participant& p = *participant;
+    first_state_out = std::make_unique<dds::Writer<wire::SectorFrame>>(
+        p, p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+        dds::writer_qos(dds::kFirstStateDelivery));
+    status("loading", 0.0, 0);
+    spdlog::warn(
+        "coordinator {}: the coordinator is gone before frame 1, and no worker had any of the world: this "
+        "standby reads the scene and starts the world under term {}",
+        options.id, term);
 }
 
 void Coordinator::State::take_over(const wire::FrameGo& go) {

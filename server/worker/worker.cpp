@@ -208,7 +208,7 @@ struct Worker::State {
     void announce(const wire::FrameGo& go);
     void apply_command(const wire::Command& command, std::uint64_t order);
     void count_load(const SectorKey& key, const dds::SectorPublisher::Counts& before);
-    /// Makes the samples of what changed (into `outgoing`, written after the mark) and says which.
+    /// Makes the samples of what changed (into `outgoing`, written before the mark) and says which.
     std::vector<wire::WrittenSector> publish();
     std::vector<wire::SectorFrame> outgoing;
     void mark(std::vector<wire::WrittenSector> written, double step_ms, double wait_ms, double publish_ms);

@@ -1702,6 +1702,80 @@ TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
     EXPECT_EQ(text.find("worker 3 is gone"), std::string::npos) << text;
 }
 
+/// The coordinator stopped while it reads the scene, before any worker has a word of the world, then
+/// killed (`killed`) or let go on past its lease. Its standby reads the scene itself and starts the world
+/// under term 2 (a million bodies take half a minute to read; a kill then ended the world); a coordinator let
+/// go on stops once it reads that (exit 6, which lpss-cluster takes for a takeover). Every frame the client
+/// sees holds every body once, within the cluster's bound of lpss-sim.
+void coordinator_gone_while_it_reads_the_scene(bool killed, int domain) {
+    Scene scene = crossing_scene_with_far_balls();
+    // 20,000 static boxes far from the rest, so that reading the scene takes a while.
+    for (int n = 0; n < 20000; ++n) {
+        BodyDesc box = scenes::box_body(10000 + n, Eigen::Vector3d::Constant(0.5), 0.0,
+                                        Eigen::Vector3d(200 * kL + 3.0 * (n % 200), 0, 3.0 * (n / 200)));
+        scene.bodies.push_back(box);
+    }
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "coordinator_gone_reading");
+    constexpr std::uint64_t kFrames = 150;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto client = connect(domain, "watcher");
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    // Stopped once it reads the scene and the standby says it would notice its end (it has its first word
+    // and has heard its writers alive): nothing of the world was sent.
+    const std::string coordinator = testing::primary_coordinator_process(domain);
+    const std::string log = cluster.log_dir + "/coordinator.log";
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (
+        (read_file(log).find("coordinator: loading") == std::string::npos ||
+         read_file(cluster.log_dir + "/standby.log").find("follows the coordinator") == std::string::npos) &&
+        std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_EQ(std::system(("pkill -STOP -f " + coordinator).c_str()), 0);
+    const std::string before = read_file(log);
+    ASSERT_NE(before.find("coordinator: loading"), std::string::npos) << before;
+    ASSERT_EQ(before.find("read and checked"), std::string::npos) << "stopped too late: " << before;
+    if (killed) {
+        ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    } else {
+        // Past its lease (0.3 s, confirmed 0.15 s later), then on again.
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        ASSERT_EQ(std::system(("pkill -CONT -f " + coordinator).c_str()), 0);
+    }
+    std::map<std::uint64_t, WorldFrame> frames;
+    collect_into(*client, frames, kFrames, std::chrono::seconds(120));
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    ASSERT_FALSE(frames.empty()) << "logs: " << cluster.log_dir;
+    EXPECT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
+    EXPECT_GE(frames.size(), kFrames * 9 / 10) << "the client saw most frames";
+    double worst = 0.0;
+    ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
+    EXPECT_LE(worst, 1e-3);
+    const std::string text = read_file(cluster.log_dir + "/standby.log");
+    EXPECT_NE(text.find("starts the world under term 2"), std::string::npos) << text;
+    if (!killed) {
+        const std::string after = read_file(log);
+        EXPECT_NE(after.find("started the world while this one read the scene"), std::string::npos) << after;
+        EXPECT_EQ(after.find("sectors sent"), std::string::npos) << "it sent the world too: " << after;
+    }
+    std::printf(
+        "the coordinator %s while reading the scene: %zu frames seen, largest difference from "
+        "lpss-sim %.3g\n",
+        killed ? "killed" : "paused past its lease", frames.size(), worst);
+}
+
+TEST(Cluster, ACoordinatorKilledWhileItReadsTheSceneIsReplacedByItsStandbyWhichStartsTheWorld) {
+    coordinator_gone_while_it_reads_the_scene(true, 179);
+}
+
+TEST(Cluster, ACoordinatorPausedPastItsLeaseWhileItReadsTheSceneYieldsToItsStandby) {
+    coordinator_gone_while_it_reads_the_scene(false, 180);
+}
+
 TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     // Worker 2 is killed and started again under its id, and joins; then the coordinator is killed. The
     // standby had noted worker 2's death too, and the deaths it notes while standing by are the
