@@ -170,16 +170,14 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             said_it_follows = true;
             spdlog::info(
                 "coordinator {}: follows the coordinator, which reads the scene; should it go before it "
-                "sends "
-                "any of the world, this standby starts the world",
+                "sends any of the world, this standby starts the world",
                 options.id);
         }
         if (primary_lost && !last) {
             // Gone before frame 1. While it read the scene no worker had a word of the world, and this
             // standby can start it from the scene as well (a million bodies take half a minute to read: a
             // coordinator killed then ended the world). Once some of the first state went out, workers may
-            // hold samples of it that this one would not write alike (another assignment, if a worker went
-            // too): it does not start a second world over them.
+            // hold part of it, from a writer now gone: a second start over that is not attempted.
             if (first_state_begun)
                 return Error{
                     "the coordinator is gone while it sent the world's first state, before frame 1: this "
