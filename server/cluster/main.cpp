@@ -189,6 +189,9 @@ int main(int argc, char** argv) {
     }
     ChildProcess* active = &*coordinator;  ///< the coordinator that runs the world
     bool taken_over = false;
+    bool standby_leads =
+        false;  ///< the standby has said it leads (its status), which it does only once it does
+    Clock::time_point taken_over_at;
     fmt::print("lpss-cluster: {} on {} worker(s), domain {}; logs in {}\n", scene_path, workers, domain,
                log_dir);
     std::fflush(stdout);
@@ -311,6 +314,7 @@ int main(int argc, char** argv) {
             last_frame = std::max(last_frame, m.frame());
         });
         status->take_all([&](const lpss::wire::ClusterStatus& st, const lpss::dds::fdds::SampleInfo& info) {
+            if (info.valid_data && st.coordinator() == 2) standby_leads = true;  // it writes none standing by
             if (!info.valid_data || quiet || last_frame > 0) return;
             // Loading a large world takes a while: say what the coordinator is at.
             if (st.phase() == "loading" && st.bodies() == 0) {
@@ -383,6 +387,19 @@ int main(int argc, char** argv) {
                 lpss::runtime::describe_exit_code(standby->exit_code().value_or(1)), log_dir);
             std::fflush(stdout);
         }
+        // Before frame 1 the standby knows the coordinator by its first word: one that died before that
+        // reached it is never found gone. A standby that has not said it leads within the coordinator's
+        // participant lease (Fast DDS's 20 s) and a little more is not going to: the world ends, as without
+        // one.
+        if (taken_over && last_frame == 0 && !standby_leads &&
+            Clock::now() - taken_over_at > std::chrono::seconds(25)) {
+            fmt::print(stderr,
+                       "lpss-cluster: the standby did not start the world within 25 s; see {}/standby.log\n",
+                       log_dir);
+            active->stop(std::chrono::seconds(2));
+            exit_code = 3;
+            break;
+        }
         if (!active->running()) {
             exit_code = active->exit_code().value_or(1);
             // A coordinator killed (a signal, not an exit that says why), or one that found its standby had
@@ -399,6 +416,7 @@ int main(int argc, char** argv) {
             }
             if ((exit_code >= 128 || exit_code == 6) && !taken_over && standby && standby->running()) {
                 taken_over = true;
+                taken_over_at = Clock::now();
                 active = &*standby;
                 fmt::print("lpss-cluster: the coordinator ended ({}); the standby takes over\n",
                            lpss::runtime::describe_exit_code(exit_code));

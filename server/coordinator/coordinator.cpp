@@ -456,6 +456,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
     }
     for (std::uint32_t w = 1; w <= options.workers; ++w)
         live.insert(w);
+    if (Status st = check_not_replaced(); !st) return st;  // before the planes go out
 
     // The first assignment: bodies per sector, balanced along the Morton curve.
     std::unordered_map<SectorKey, std::vector<std::uint32_t>, SectorKeyHash> by_sector;
@@ -1196,6 +1197,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
     std::uint64_t first = 1;
     bool resumes = false;  // a standby that took over, from the coordinator's last start
     bool loads = !o.standby;
+    bool anew = false;  // a standby that starts the world, the coordinator gone before frame 1
     if (o.standby) {
         Expected<std::uint64_t> from = s.follow(stop);
         if (!from) {
@@ -1206,6 +1208,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (*from == State::kStartTheWorld) {
             s.start_instead();
             loads = true;
+            anew = true;
         } else {
             first = *from;
             resumes = true;
@@ -1221,6 +1224,13 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             spdlog::error("coordinator: {}", st.error().message);
             return 3;
         }
+    }
+    if (anew) {
+        // Commands read while standing by are this coordinator's to accept or refuse, as at a takeover.
+        for (const wire::Command& c : s.standing_commands.take_all())
+            s.decide(c);
+        s.answer_over_rate();
+        s.last_request = s.standing_commands.newest();
     }
 
     const auto start = Clock::now();
@@ -1257,6 +1267,14 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             go.handoffs(s.grants);
             go.commands(s.commands);
             go.command_sequence(s.command_order);
+            // The world's first start, unless the standby started the world instead meanwhile.
+            if (f == 1 && !o.standby) {
+                s.pump(false);
+                if (Status st = s.check_not_replaced(); !st) {
+                    spdlog::warn("coordinator {}: {}", o.id, st.error().message);
+                    return 6;
+                }
+            }
             if (o.realtime) pacer.pace(f);
             go.started_ns(static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                          std::chrono::system_clock::now().time_since_epoch())

@@ -164,8 +164,12 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
         });
         // Its participant gone (its lease ran out), should its writers' lapse not have been heard here (a
         // coordinator killed before its first liveliness beat reached this standby).
-        if (!last && primary_participant && status_in->matched() < status_writers) primary_lost = true;
-        if (!last && primary_participant && !said_it_follows &&
+        // Before any frame start was read (once one was, the coordinator is known by its writer, and a start
+        // read and not yet followed waits for the first state whole, then is taken over from as usual).
+        const bool before_any_start = !last && !primary_writer && starts.empty();
+        if (before_any_start && primary_participant && status_in->matched() < status_writers)
+            primary_lost = true;
+        if (before_any_start && primary_participant && !said_it_follows &&
             heard_alive_before_frame_1.count(*primary_participant)) {
             said_it_follows = true;
             spdlog::info(
@@ -173,7 +177,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
                 "sends any of the world, this standby starts the world",
                 options.id);
         }
-        if (primary_lost && !last) {
+        if (primary_lost && before_any_start) {
             // Gone before frame 1. While it read the scene no worker had a word of the world, and this
             // standby can start it from the scene as well (a million bodies take half a minute to read: a
             // coordinator killed then ended the world). Once some of the first state went out, workers may
