@@ -1718,9 +1718,15 @@ void coordinator_gone_while_it_reads_the_scene(bool killed, int domain) {
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(scene, "coordinator_gone_reading");
     constexpr std::uint64_t kFrames = 150;
-    const auto sim = run_sim(path, kFrames);
+    SimFrames sim = run_sim(path, kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
-    auto client = connect(domain, "watcher");
+    // The client follows the region of the moving bodies, not the boxes (20,000 bodies a frame kept a client
+    // under AddressSanitizer 28 frames behind for two minutes): lpss-sim's frames without them.
+    for (auto& [f, bodies] : sim) {
+        for (auto it = bodies.begin(); it != bodies.end();)
+            it = it->first >= 10000 ? bodies.erase(it) : std::next(it);
+    }
+    auto client = connect(domain, "watcher", Region{{-8, -8, -8}, {100, 8, 8}});
     ASSERT_TRUE(client);
     auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
