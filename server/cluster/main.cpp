@@ -28,6 +28,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using lpss::runtime::ChildProcess;
 
+/// The id lpss-coordinator takes with --standby unless told another (lpss-cluster tells none).
+constexpr std::uint32_t kStandbyId = 2;
+
 std::filesystem::path own_directory() {
     std::error_code error;
     std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
@@ -189,8 +192,8 @@ int main(int argc, char** argv) {
     }
     ChildProcess* active = &*coordinator;  ///< the coordinator that runs the world
     bool taken_over = false;
-    bool standby_leads =
-        false;  ///< the standby has said it leads (its status), which it does only once it does
+    // The standby has said it leads (its status: it writes none while it stands by).
+    bool standby_leads = false;
     Clock::time_point taken_over_at;
     fmt::print("lpss-cluster: {} on {} worker(s), domain {}; logs in {}\n", scene_path, workers, domain,
                log_dir);
@@ -314,7 +317,7 @@ int main(int argc, char** argv) {
             last_frame = std::max(last_frame, m.frame());
         });
         status->take_all([&](const lpss::wire::ClusterStatus& st, const lpss::dds::fdds::SampleInfo& info) {
-            if (info.valid_data && st.coordinator() == 2) standby_leads = true;  // it writes none standing by
+            if (info.valid_data && st.coordinator() == kStandbyId) standby_leads = true;
             if (!info.valid_data || quiet || last_frame > 0) return;
             // Loading a large world takes a while: say what the coordinator is at.
             if (st.phase() == "loading" && st.bodies() == 0) {

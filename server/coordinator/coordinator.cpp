@@ -1196,8 +1196,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
     // and this coordinator waits for its end.
     std::uint64_t first = 1;
     bool resumes = false;  // a standby that took over, from the coordinator's last start
-    bool loads = !o.standby;
-    bool anew = false;  // a standby that starts the world, the coordinator gone before frame 1
+    bool anew = false;     // a standby that starts the world, the coordinator gone before frame 1
     if (o.standby) {
         Expected<std::uint64_t> from = s.follow(stop);
         if (!from) {
@@ -1207,14 +1206,13 @@ int Coordinator::run(const std::atomic<bool>& stop) {
         if (*from == 0) return 0;  // stopped, or the cluster ended
         if (*from == State::kStartTheWorld) {
             s.start_instead();
-            loads = true;
             anew = true;
         } else {
             first = *from;
             resumes = true;
         }
     }
-    if (loads) {
+    if (!resumes) {
         if (Status st = s.load_and_seed(stop); !st) {
             if (stop.load()) return 0;
             if (s.fenced) {
@@ -1225,13 +1223,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
             return 3;
         }
     }
-    if (anew) {
-        // Commands read while standing by are this coordinator's to accept or refuse, as at a takeover.
-        for (const wire::Command& c : s.standing_commands.take_all())
-            s.decide(c);
-        s.answer_over_rate();
-        s.last_request = s.standing_commands.newest();
-    }
+    if (anew) s.decide_standing_commands();  // as at a takeover
 
     const auto start = Clock::now();
     auto last_log = start;

@@ -278,6 +278,9 @@ struct Coordinator::State {
     Expected<std::uint64_t> follow(const std::atomic<bool>& stop);
     static constexpr std::uint64_t kStartTheWorld = ~std::uint64_t{0};
     void take_over(const wire::FrameGo& last);
+    /// Commands read while standing by, neither applied nor answered by the coordinator that went: this
+    /// one's now, accepted or refused in the order read. Returns how many.
+    std::size_t decide_standing_commands();
     /// The coordinator went while it read the scene, before any worker had a word of the world: this standby
     /// becomes the coordinator, under the next term, and run() loads the scene as the coordinator would have.
     void start_instead();

@@ -162,11 +162,11 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             primary_participant = dds::participant_of(info.publication_handle);
             status_writers = status_in->matched();
         });
-        // Its participant gone (its lease ran out), should its writers' lapse not have been heard here (a
-        // coordinator killed before its first liveliness beat reached this standby).
         // Before any frame start was read (once one was, the coordinator is known by its writer, and a start
         // read and not yet followed waits for the first state whole, then is taken over from as usual).
         const bool before_any_start = !last && !primary_writer && starts.empty();
+        // Its participant gone (its lease ran out), should its writers' lapse not have been heard here (a
+        // coordinator killed before its first liveliness beat reached this standby).
         if (before_any_start && primary_participant && status_in->matched() < status_writers)
             primary_lost = true;
         if (before_any_start && primary_participant && !said_it_follows &&
@@ -242,6 +242,15 @@ void Coordinator::State::start_instead() {
         options.id, term);
 }
 
+std::size_t Coordinator::State::decide_standing_commands() {
+    const std::vector<wire::Command> standing = standing_commands.take_all();
+    for (const wire::Command& c : standing)
+        decide(c);
+    answer_over_rate();
+    last_request = standing_commands.newest();
+    return standing.size();
+}
+
 void Coordinator::State::take_over(const wire::FrameGo& go) {
     standing_by = false;
     term = go.term() + 1;
@@ -283,11 +292,7 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
     // Commands read and neither applied nor answered are this coordinator's now, in the order read.
     // Their request numbers have gaps where the coordinator answered: not lost, so not checked for gaps;
     // those are looked for from the newest request read of each client on.
-    const std::vector<wire::Command> standing = standing_commands.take_all();
-    for (const wire::Command& c : standing)
-        decide(c);
-    answer_over_rate();
-    last_request = standing_commands.newest();
+    const std::size_t standing = decide_standing_commands();
     publish_assignment();
     // The coordinator's last frame start may not have reached every worker: a writer killed while it
     // delivers a sample leaves some readers without it, and nobody sends it again (seen: a worker restarted
@@ -307,7 +312,7 @@ void Coordinator::State::take_over(const wire::FrameGo& go) {
         "coordinator {}: the coordinator's lease ran out after it started frame {}: taking over under term "
         "{} "
         "({} workers, {} bodies, {} commands it had not applied or answered)",
-        options.id, frame, term, live.size(), statics.size(), standing.size());
+        options.id, frame, term, live.size(), statics.size(), standing);
 }
 
 }  // namespace lpss::coordinator
