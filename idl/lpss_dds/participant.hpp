@@ -264,10 +264,10 @@ public:
 
     bool ok() const { return reader_ != nullptr; }
     /// Takes the samples available when called (at most `at_most` of them) and calls each(sample, info) for
-    /// each (a disposed instance is passed with info.valid_data false). Returns how many were taken. Those
-    /// that arrive meanwhile wait for the next call: a reader slower than its writers would otherwise never
-    /// return (seen: a client that joined a drifting world taking sector samples for minutes, its marks never
-    /// read).
+    /// each (a disposed instance is passed with info.valid_data false); each may move the sample away.
+    /// Returns how many were taken. Those that arrive meanwhile wait for the next call: a reader slower than
+    /// its writers would otherwise never return (seen: a client that joined a drifting world taking sector
+    /// samples for minutes, its marks never read).
     template <class F>
     int take_all(F&& each, std::uint64_t at_most = ~std::uint64_t{0}) {
         int count = 0;

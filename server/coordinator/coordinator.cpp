@@ -180,7 +180,7 @@ std::vector<std::uint32_t> Coordinator::State::recipients(const SectorKey& key,
 }
 
 int Coordinator::State::take_sector_samples(std::uint64_t at_most) {
-    auto each = [&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+    auto each = [&](wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
         if (!info.valid_data) return;
         if (f.worker() == 0) {
             // Its own samples are in the mirror already. Another coordinator's (the world's first state, the
@@ -193,7 +193,7 @@ int Coordinator::State::take_sector_samples(std::uint64_t at_most) {
                     statics.emplace(kind.id(), kind.mass() == 0.0);
             }
         }
-        take_sample(f);
+        take_sample(std::move(f));
     };
     return sectors_in->take_all(each, at_most);
 }
@@ -376,16 +376,16 @@ void Coordinator::State::await_acknowledgement(std::uint64_t f, std::chrono::mic
     }
 }
 
-void Coordinator::State::take_sample(const wire::SectorFrame& f) {
+void Coordinator::State::take_sample(wire::SectorFrame f) {
     if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
     if (!owners.admit(f, refused_samples)) return;
-    if (chain.accept(f)) samples[f.frame()].push_back(f);
+    if (chain.accept(f)) samples[f.frame()].push_back(std::move(f));
 }
 
 void Coordinator::State::publish_assignment() {
     assignment_out->write(assignment_on_wire());
-    for (const wire::SectorFrame& f : owners.learn(next))
-        take_sample(f);
+    for (wire::SectorFrame& f : owners.learn(next))
+        take_sample(std::move(f));
 }
 
 void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also) {

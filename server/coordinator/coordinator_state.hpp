@@ -246,7 +246,7 @@ struct Coordinator::State {
     /// Waits, at most `patience`, until the standby (if one is named) acknowledges frame f's start.
     void await_acknowledgement(std::uint64_t f, std::chrono::microseconds patience);
     /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
-    void take_sample(const wire::SectorFrame& f);
+    void take_sample(wire::SectorFrame f);
     /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
     void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});
     /// A complete sample of a sector as the copy of the world holds it, as worker 0.

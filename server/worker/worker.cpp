@@ -107,7 +107,7 @@ struct Worker::State {
     std::uint64_t whole_requests = 0;
     void ask_for_whole_sectors();
     /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
-    void take_sample(const wire::SectorFrame& f);
+    void take_sample(wire::SectorFrame f);
     /// Tells `owners` of an assignment announced; the samples it held are offered again.
     void learn(const SectorAssignment& assignment);
     // Received and not yet applied.
@@ -410,13 +410,13 @@ void Worker::State::pump() {
         gate.take_mark(m);
         if (!world && m.frame() > 0) heard.insert(m.worker());
     });
-    frames_in->take_all([&](const wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (info.valid_data) take_sample(f);
+    frames_in->take_all([&](wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
+        if (info.valid_data) take_sample(std::move(f));
     });
     ask_for_whole_sectors();
 }
 
-void Worker::State::take_sample(const wire::SectorFrame& f) {
+void Worker::State::take_sample(wire::SectorFrame f) {
     if (f.worker() == options.id || f.frame() < sample_floor) return;
     const wire::FrameGo* latest = gate.latest();
     // A worker not yet in the world reads the coordinator's frame starts from its writer's history, which
@@ -438,12 +438,12 @@ void Worker::State::take_sample(const wire::SectorFrame& f) {
         return;
     }
     wanted_whole.got(dds::from_wire(f.sector()));
-    samples[f.frame()].push_back(f);
+    samples[f.frame()].push_back(std::move(f));
 }
 
 void Worker::State::learn(const SectorAssignment& assignment) {
-    for (const wire::SectorFrame& f : owners.learn(assignment))
-        take_sample(f);
+    for (wire::SectorFrame& f : owners.learn(assignment))
+        take_sample(std::move(f));
 }
 
 void Worker::State::ask_for_whole_sectors() {
