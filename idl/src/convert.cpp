@@ -66,7 +66,7 @@ BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
     out.orientation = from_wire_q(state.orientation());
     out.linear_velocity = from_wire_f(state.linear_velocity());
     out.angular_velocity = from_wire_f(state.angular_velocity());
-    out.awake = (state.flags() & 1u) != 0;
+    out.awake = is_awake(state);
     return out;
 }
 

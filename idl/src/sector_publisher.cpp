@@ -17,8 +17,6 @@ bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
            a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
 }
 
-bool awake(const wire::BodyState& state) { return (state.flags() & 1u) != 0; }
-
 wire::SectorFrame sample_of(const SectorKey& key, std::uint64_t frame, std::uint64_t base, bool complete) {
     wire::SectorFrame sample;
     sample.sector(to_wire(key));
@@ -34,7 +32,7 @@ void SectorPublisher::count(Sector& sector, const Body& body, int sign) {
     const auto s = static_cast<std::uint32_t>(sign);
     sector.counts.bodies += s;
     totals_.bodies += s;
-    if (awake(body.state)) {
+    if (is_awake(body.state)) {
         sector.counts.awake += s;
         totals_.awake += s;
     }

@@ -201,11 +201,13 @@ struct SimRow {
     Eigen::Quaterniond orientation;
 };
 
-/// Runs lpss-sim (LPSS_SIM) on the scene and reads its CSV: frame -> id -> state.
-inline std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& scene, int frames) {
+/// Runs lpss-sim (LPSS_SIM) on the scene and reads its CSV: frame -> id -> state; with `every` > 1, only
+/// every every-th frame (and the last), for worlds too large to keep every frame of.
+inline std::map<std::uint64_t, std::map<BodyId, SimRow>> run_sim(const std::string& scene, int frames,
+                                                                 int every = 1) {
     const std::string csv = scene + ".sim.csv";
     const std::string command = std::string(LPSS_SIM) + " " + scene + " --frames " + std::to_string(frames) +
-                                " --csv " + csv + " 2>/dev/null";
+                                " --csv " + csv + " --every " + std::to_string(every) + " 2>/dev/null";
     EXPECT_EQ(std::system(command.c_str()), 0);
     std::map<std::uint64_t, std::map<BodyId, SimRow>> out;
     const Expected<std::vector<StateCsvRow>> rows = read_state_csv(csv);

@@ -1135,6 +1135,112 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
         << last_line;
 }
 
+TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain) {
+    // 20,000 resting bodies over 49 sectors and 100 balls in the middle, on 3 workers; worker 2 is killed.
+    // The coordinator steps the frame it did not finish again only in its sectors next to a body awake (a
+    // world of every body it held took 3.6 s at a million bodies, the world stopped meanwhile); the rest,
+    // asleep throughout the frame, go to their new owners as they were. Every body once, each where
+    // lpss-sim has it, in every 20th frame a client of changes rebuilt, before the kill and after it.
+    const Scene scene = scenes::resting_world(20000, 100);
+    const int domain = 181;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "killed_at_rest");
+    constexpr std::uint64_t kFrames = 360;
+    constexpr int kEvery = 20;
+    const auto sim = run_sim(path, kFrames, kEvery);
+    ASSERT_EQ(sim.size(), kFrames / kEvery + 1);
+    auto client = connect(domain, "rebuilds", std::nullopt, FrameContent::changes);
+    ASSERT_TRUE(client);
+    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
+    ASSERT_TRUE(cluster.process);
+    std::map<BodyId, BodyView> bodies;
+    std::map<std::uint64_t, WorldFrame> compared;  // the rebuilt world at the frames lpss-sim wrote
+    std::uint64_t last = 0;
+    auto gather = [&](std::uint64_t until, std::chrono::seconds limit) {
+        const auto end = std::chrono::steady_clock::now() + limit;
+        while (last < until && std::chrono::steady_clock::now() < end) {
+            for (WorldFrame& f : client->poll(std::chrono::milliseconds(5))) {
+                if (f.every_body) bodies.clear();
+                for (const BodyView& b : f.bodies)
+                    bodies[b.id] = b;
+                for (BodyId id : f.departed)
+                    bodies.erase(id);
+                last = f.frame;
+                if (!sim.count(f.frame)) continue;
+                WorldFrame& copy = compared[f.frame];
+                copy.frame = f.frame;
+                for (const auto& [id, b] : bodies)
+                    copy.bodies.push_back(b);
+            }
+        }
+    };
+    gather(100, std::chrono::seconds(90));
+    ASSERT_GE(last, 100u) << testing::log_tails(cluster.log_dir);
+    const std::uint64_t killed_at = last;
+    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    gather(kFrames, std::chrono::seconds(90));
+    EXPECT_EQ(last, kFrames) << testing::log_tails(cluster.log_dir);
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    // Every body once in every frame compared.
+    double worst = 0.0;
+    ASSERT_EQ(against_sim(compared, sim, worst), "") << "logs: " << cluster.log_dir;
+    // Where lpss-sim moved a body, and the sectors next to those: there the cluster diverges after the kill
+    // (a frame stepped again, and sectors taken over, start without Bullet's contact history: balls among
+    // resting bodies end up to about a unit from lpss-sim, the same whether all of the gone worker's sectors
+    // are stepped again or only these; docs/protocol.md). Everywhere else every body rests throughout and
+    // must be exactly where it was: those are the sectors not stepped again.
+    const SectorGrid grid(kL);
+    const auto& at_start = sim.begin()->second;
+    std::set<SectorKey> lively;
+    for (const auto& [f, rows] : sim) {
+        for (const auto& [id, row] : rows) {
+            const SimRow& start = at_start.at(id);
+            if ((grid.to_global(row.position) - grid.to_global(start.position)).norm() < 1e-6) continue;
+            for (const SectorKey& moved : {start.position.sector, row.position.sector})
+                for (std::int64_t i = -1; i <= 1; ++i)
+                    for (std::int64_t j = -1; j <= 1; ++j)
+                        for (std::int64_t k = -1; k <= 1; ++k)
+                            lively.insert(moved + SectorKey{i, j, k});
+        }
+    }
+    double worst_before = 0.0, worst_lively = 0.0, worst_resting = 0.0;
+    std::size_t resting = 0, after = 0;
+    for (const auto& [f, frame] : compared) {
+        after += f > killed_at + kEvery ? 1 : 0;
+        for (const BodyView& b : frame.bodies) {
+            const SimRow& expected = sim.at(f).at(b.id);
+            const double d = (grid.to_global(b.position) - grid.to_global(expected.position)).norm();
+            if (f <= killed_at) {
+                worst_before = std::max(worst_before, d);
+            } else if (lively.count(at_start.at(b.id).position.sector)) {
+                worst_lively = std::max(worst_lively, d);
+            } else {
+                worst_resting = std::max(worst_resting, d);
+                ++resting;
+            }
+        }
+    }
+    std::printf(
+        "worker 2 killed after frame %llu; %zu frames compared with lpss-sim, %zu after the kill; largest "
+        "difference before it %.3g, after it %.3g in %zu states of bodies of sectors far from any motion, %.3g near "
+        "the balls\n",
+        static_cast<unsigned long long>(killed_at), compared.size(), after, worst_before, worst_resting,
+        resting, worst_lively);
+    EXPECT_LE(worst_before, 1e-3);
+    EXPECT_LE(worst_resting, 1e-3) << "a sector not stepped again goes on as it was";
+    EXPECT_GT(resting, 0u) << "bodies far from any motion compared after the kill";
+    EXPECT_GE(after, 5u) << "frames after the kill compared";
+    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
+    std::smatch stepped;
+    ASSERT_TRUE(std::regex_search(
+        text, stepped,
+        std::regex(R"(of worker 2 stepped again here: ([0-9]+) bodies in ([0-9]+) of its ([0-9]+) sectors)")))
+        << text;
+    std::printf("%s\n", stepped[0].str().c_str());
+    EXPECT_GT(std::stoul(stepped[2]), 0u) << "a sector next to the balls is stepped again";
+    EXPECT_LT(std::stoul(stepped[2]), std::stoul(stepped[3])) << "sectors far from them are not";
+}
+
 /// Every worker of a cluster of `workers` killed at once after frame 150 (or, `stop_s` > 0, stopped for
 /// that long), lpss-cluster starting killed ones again (--restart-workers): the coordinator holds the world
 /// until one joins, and no body is lost or doubled. Returns the pause a client saw, in seconds.
