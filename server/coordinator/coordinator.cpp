@@ -846,38 +846,57 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     std::vector<wire::SectorFrame> stepped;
     std::set<SectorKey> keys;
     std::vector<std::uint32_t> not_stepped;
-    auto for_each_neighbour = [](const SectorKey& key, auto&& each) {  // the sector itself included
-        for (std::int64_t i = -1; i <= 1; ++i)
-            for (std::int64_t j = -1; j <= 1; ++j)
-                for (std::int64_t k = -1; k <= 1; ++k)
+    // How many sectors away a body awake can make another be stepped: two bodies interact once their reach
+    // boxes meet (each its bounding sphere widened by the border band and its motion, as the halo counts
+    // it, and a fat box stretched by up to L/8 along its velocity), so one sector for bodies small beside
+    // a sector, more for bodies as wide as one.
+    const double sector_size = settings.sector_size;
+    const auto ring =
+        1 + static_cast<std::int64_t>(std::floor(
+                (2.0 * border_reach(settings, largest_radius, largest_radius, 0.0) + sector_size / 4.0) /
+                sector_size));
+    auto for_each_near = [ring](const SectorKey& key, auto&& each) {  // the sector itself included
+        for (std::int64_t i = -ring; i <= ring; ++i)
+            for (std::int64_t j = -ring; j <= ring; ++j)
+                for (std::int64_t k = -ring; k <= ring; ++k)
                     each(key + SectorKey{i, j, k});
     };
-    // Where something can change in the frame: next to a sector with a body awake (a body there may wake
-    // its neighbours), or to one where a body is handed in. A sector with nothing of that near it is asleep
-    // throughout the frame, as the engine leaves it: its state at f is its state at f - 1.
+    // Where something can change in the frame: near a sector with a body awake (a body there may wake
+    // others), or one where a body is handed in. A sector with nothing of that near it is asleep throughout
+    // the frame, as the engine leaves it: its state at f is its state at f - 1. Known only if every sample of
+    // f - 1 is here (a sector woken then would look asleep): if not, everything may change.
+    bool whole_frame_before = true;
+    for (const auto& [key, mark] : marks) {
+        if (key.second == f - 1)
+            whole_frame_before = whole_frame_before && holds_samples_of(key.first, f - 1);
+    }
     std::set<SectorKey> may_change;
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (std::any_of(bodies.begin(), bodies.end(),
                         [](const dds::SectorMirror::Body& b) { return dds::is_awake(b.state); }))
-            for_each_neighbour(key, [&](const SectorKey& near) { may_change.insert(near); });
+            for_each_near(key, [&](const SectorKey& near) { may_change.insert(near); });
     }
     for (const wire::Handoff& h : in_flight)
-        for_each_neighbour(dds::from_wire(h.sector()),
-                           [&](const SectorKey& near) { may_change.insert(near); });
+        for_each_near(dds::from_wire(h.sector()), [&](const SectorKey& near) { may_change.insert(near); });
     for (std::uint32_t w : unfinished) {
         const auto step_start = Clock::now();
         // Only its sectors that may change are stepped again, with the sectors around them; the rest go to
         // their new owners as last published (building a world of every body it held took 3.6 s, the world
         // stopped meanwhile, for 252,000 bodies of a million resting ones on four workers). A command of the
         // frame may touch any sector: then all of them.
+        const bool everything = !commands_in_flight.empty() || !whole_frame_before;
         std::set<SectorKey> own, to_step, around;
         for (const auto& [key, bodies] : mirror.sectors()) {
             if (current.owner_of(key) != w) continue;
             own.insert(key);
-            if (!commands_in_flight.empty() || may_change.count(key)) to_step.insert(key);
+            if (everything || may_change.count(key)) to_step.insert(key);
+        }
+        // A sector a body is handed into may be empty so far, and in no copy.
+        for (const wire::Handoff& h : in_flight) {
+            if (h.to_worker() == w) to_step.insert(dds::from_wire(h.sector()));
         }
         for (const SectorKey& key : to_step) {
-            for_each_neighbour(key, [&](const SectorKey& near) {
+            for_each_near(key, [&](const SectorKey& near) {
                 if (mirror.sectors().count(near)) around.insert(near);
             });
         }
@@ -916,10 +935,11 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
         }
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
         spdlog::info(
-            "coordinator: frame {} of worker {} stepped again here: {} bodies in {} of its {} sectors (the "
-            "rest asleep throughout the frame, as they were), {} sectors around them, {:.3f} s",
-            f, w, lost_frame->bodies, lost_frame->sectors.size(), own.size(), around.size(),
-            seconds_since(step_start));
+            "coordinator: frame {} of worker {} stepped again here: {} of its {} sectors may change, stepped "
+            "with {} sectors around them ({} bodies of its own; the rest asleep throughout the frame, as "
+            "they "
+            "were), {:.3f} s",
+            f, w, to_step.size(), own.size(), around.size(), lost_frame->bodies, seconds_since(step_start));
     }
     take_samples(f, stepped);
     // Not stepped: its bodies lose frame f's motion, restored as last published, and those handed to it at

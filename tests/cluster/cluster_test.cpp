@@ -1182,14 +1182,15 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     EXPECT_EQ(last, kFrames) << testing::log_tails(cluster.log_dir);
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     // Every body once in every frame compared.
+    const double sector_size = scene.settings.sector_size;
     double worst = 0.0;
-    ASSERT_EQ(against_sim(compared, sim, worst), "") << "logs: " << cluster.log_dir;
+    ASSERT_EQ(testing::against_sim(compared, sim, worst, sector_size), "") << "logs: " << cluster.log_dir;
     // Where lpss-sim moved a body, and the sectors next to those: there the cluster diverges after the kill
     // (a frame stepped again, and sectors taken over, start without Bullet's contact history: balls among
     // resting bodies end up to about a unit from lpss-sim, the same whether all of the gone worker's sectors
     // are stepped again or only these; docs/protocol.md). Everywhere else every body rests throughout and
     // must be exactly where it was: those are the sectors not stepped again.
-    const SectorGrid grid(kL);
+    const SectorGrid grid(sector_size);
     const auto& at_start = sim.begin()->second;
     std::set<SectorKey> lively;
     for (const auto& [f, rows] : sim) {
@@ -1222,7 +1223,8 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     }
     std::printf(
         "worker 2 killed after frame %llu; %zu frames compared with lpss-sim, %zu after the kill; largest "
-        "difference before it %.3g, after it %.3g in %zu states of bodies of sectors far from any motion, %.3g near "
+        "difference before it %.3g, after it %.3g in %zu states of bodies of sectors far from any motion, "
+        "%.3g near "
         "the balls\n",
         static_cast<unsigned long long>(killed_at), compared.size(), after, worst_before, worst_resting,
         resting, worst_lively);
@@ -1234,11 +1236,11 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     std::smatch stepped;
     ASSERT_TRUE(std::regex_search(
         text, stepped,
-        std::regex(R"(of worker 2 stepped again here: ([0-9]+) bodies in ([0-9]+) of its ([0-9]+) sectors)")))
+        std::regex(R"(of worker 2 stepped again here: ([0-9]+) of its ([0-9]+) sectors may change)")))
         << text;
     std::printf("%s\n", stepped[0].str().c_str());
-    EXPECT_GT(std::stoul(stepped[2]), 0u) << "a sector next to the balls is stepped again";
-    EXPECT_LT(std::stoul(stepped[2]), std::stoul(stepped[3])) << "sectors far from them are not";
+    EXPECT_GT(std::stoul(stepped[1]), 0u) << "a sector next to the balls is stepped again";
+    EXPECT_LT(std::stoul(stepped[1]), std::stoul(stepped[2])) << "sectors far from them are not";
 }
 
 /// Every worker of a cluster of `workers` killed at once after frame 150 (or, `stop_s` > 0, stopped for
