@@ -846,14 +846,14 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     std::vector<wire::SectorFrame> stepped;
     std::set<SectorKey> keys;
     std::vector<std::uint32_t> not_stepped;
-    // How many sectors away a body awake can make another be stepped: two bodies interact once their reach
-    // boxes meet (each its bounding sphere widened by the border band and its motion, as the halo counts
-    // it, and a fat box stretched by up to L/8 along its velocity), so one sector for bodies small beside
-    // a sector, more for bodies as wide as one.
+    // How many sectors away a body awake can make another be stepped: two bodies are partners once their fat
+    // boxes meet (each its bounding sphere widened by the border band, as the halo counts it, and by a slack
+    // and a stretch along its velocity of up to L/8 each: L/2 for the two), so one sector for bodies small
+    // beside a sector, more for bodies as wide as one.
     const double sector_size = settings.sector_size;
     const auto ring =
         1 + static_cast<std::int64_t>(std::floor(
-                (2.0 * border_reach(settings, largest_radius, largest_radius, 0.0) + sector_size / 4.0) /
+                (2.0 * border_reach(settings, largest_radius, largest_radius, 0.0) + sector_size / 2.0) /
                 sector_size));
     auto for_each_near = [ring](const SectorKey& key, auto&& each) {  // the sector itself included
         for (std::int64_t i = -ring; i <= ring; ++i)
@@ -936,9 +936,8 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
         spdlog::info(
             "coordinator: frame {} of worker {} stepped again here: {} of its {} sectors may change, stepped "
-            "with {} sectors around them ({} bodies of its own; the rest asleep throughout the frame, as "
-            "they "
-            "were), {:.3f} s",
+            "with {} sectors around them ({} bodies of its own; the rest, asleep throughout the frame, as "
+            "they were), {:.3f} s",
             f, w, to_step.size(), own.size(), around.size(), lost_frame->bodies, seconds_since(step_start));
     }
     take_samples(f, stepped);

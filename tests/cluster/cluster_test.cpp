@@ -1139,8 +1139,9 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     // 20,000 resting bodies over 49 sectors and 100 balls in the middle, on 3 workers; worker 2 is killed.
     // The coordinator steps the frame it did not finish again only in its sectors next to a body awake (a
     // world of every body it held took 3.6 s at a million bodies, the world stopped meanwhile); the rest,
-    // asleep throughout the frame, go to their new owners as they were. Every body once, each where
-    // lpss-sim has it, in every 20th frame a client of changes rebuilt, before the kill and after it.
+    // asleep throughout the frame, go to their new owners as they were. In every 20th frame a client of
+    // changes rebuilt: every body once; before the kill every body where lpss-sim has it, after it every
+    // body of the sectors far from any motion (near the balls the cluster drifts, below).
     const Scene scene = scenes::resting_world(20000, 100);
     const int domain = 181;
     const testing::DomainCleanup cleanup(domain);
