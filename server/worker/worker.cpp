@@ -523,6 +523,10 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         count_load(key, before);  // its load counts from now, though it may never change
         halo.addressed(key, seeded->second, 0);
     }
+    // Building the world left the heap full of the freed samples that carried it: given back here, before
+    // frame 1 is stepped, rather than after it, where it stalled the running world (0.37-0.41 s at a million
+    // bodies, the whole cluster waiting on frame 2).
+    runtime::give_back_free_memory();
     // A neighbour's sector comes here whole once one of its bodies comes near; only the bodies that come
     // near are ghosts in the engine, the rest wait as records (Halo::dormant).
     const double built_s = std::chrono::duration<double>(Clock::now() - started).count();
@@ -1090,8 +1094,8 @@ int Worker::run(const std::atomic<bool>& stop) {
             s.frames_out->write(sample);
         s.outgoing.clear();
         s.mark(std::move(written), step_ms, wait_ms, ms_since(publish_start));
-        // Building the world and sending it whole leave the heap full of freed buffers.
-        if (s.frame == 1 || s.frame % 600 == 0) runtime::give_back_free_memory();
+        // Freed buffers of handoffs and halo changes (the world's build gave back its own before frame 1).
+        if (s.frame % 600 == 0) runtime::give_back_free_memory();
         s.gate.forget_before(s.frame - 1);
     }
     spdlog::info("worker {}: stopping", id);

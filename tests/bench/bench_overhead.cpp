@@ -36,8 +36,9 @@ Scene drifting_lattice(int count, double sector_size) {
 void run_overhead(const Context& context) {
     Table table({"config", "sector_size", "bodies", "frames", "sectors", "border_bodies", "clones",
                  "ms_per_frame", "sectorize_ms", "clone_ms", "step_ms", "overhead_fraction"});
-    const std::vector<int> counts =
+    std::vector<int> counts =
         context.quick ? std::vector<int>{1000, 10000} : std::vector<int>{1000, 3000, 10000, 30000, 100000};
+    if (!context.sizes.empty()) counts.assign(context.sizes.begin(), context.sizes.end());
     // Two fixed windows of each world's history, the same at every size: its start, when every body takes
     // its first fat box and leaves it within a few frames of the others (all start at their lattice
     // points), and a running world, when they have been colliding for most of a second.

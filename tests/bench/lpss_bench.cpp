@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
     app.add_option("--out", out, "output folder (a sub-folder per sub-command)");
     app.add_option("--twin", twin, "the float64 twin (default: lpss-bench-f64 beside this program)");
     app.add_flag("--quick", quick, "smaller sizes and fewer points: a smoke run");
-    app.add_option("--bodies", sizes, "world sizes to run instead of the default ones (cluster-scale)");
+    app.add_option("--bodies", sizes,
+                   "world sizes to run instead of the default ones (cluster-scale, overhead)");
     app.add_flag("--keep", keep,
                  "keep the scenes and logs of the runs (cluster-scale), to rerun one by hand");
     app.add_flag("--as-twin", as_twin, "internal: run the double configurations and print CSV");
