@@ -934,11 +934,17 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
                 results_out->write(r);
         }
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
+        const std::string why =
+            !commands_in_flight.empty()
+                ? fmt::format(" (all: the frame carries {} command(s))", commands_in_flight.size())
+            : !whole_frame_before ? std::string(" (all: a sample of the frame before has not come)")
+                                  : std::string();
         spdlog::info(
-            "coordinator: frame {} of worker {} stepped again here: {} of its {} sectors may change, stepped "
-            "with {} sectors around them ({} bodies of its own; the rest, asleep throughout the frame, as "
-            "they were), {:.3f} s",
-            f, w, to_step.size(), own.size(), around.size(), lost_frame->bodies, seconds_since(step_start));
+            "coordinator: frame {} of worker {} stepped again here: {} of its {} sectors may change{}, "
+            "stepped with {} sectors around them ({} bodies of its own; the rest, asleep throughout the "
+            "frame, as they were), {:.3f} s",
+            f, w, to_step.size(), own.size(), why, around.size(), lost_frame->bodies,
+            seconds_since(step_start));
     }
     take_samples(f, stepped);
     // Not stepped: its bodies lose frame f's motion, restored as last published, and those handed to it at
