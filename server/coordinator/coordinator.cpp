@@ -934,11 +934,13 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
                 results_out->write(r);
         }
         stood_in.insert(stood_in.end(), lost_frame->leaving.begin(), lost_frame->leaving.end());
-        const std::string why =
-            !commands_in_flight.empty()
-                ? fmt::format(" (all: the frame carries {} command(s))", commands_in_flight.size())
-            : !whole_frame_before ? std::string(" (all: a sample of the frame before has not come)")
-                                  : std::string();
+        // What the log says follows the decision taken above, not the conditions alone.
+        std::string why;
+        if (everything && !commands_in_flight.empty()) {
+            why = fmt::format(" (all: the frame carries {} command(s))", commands_in_flight.size());
+        } else if (everything) {
+            why = " (all: a sample of the frame before has not come)";
+        }
         spdlog::info(
             "coordinator: frame {} of worker {} stepped again here: {} of its {} sectors may change{}, "
             "stepped with {} sectors around them ({} bodies of its own; the rest, asleep throughout the "
