@@ -1303,11 +1303,15 @@ TEST(Cluster, AWorkerKilledWhileCommandsComeHasAllItsSectorsSteppedAgainAndEachC
             }
         }
     };
-    for (auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-         last < 60 && std::chrono::steady_clock::now() < end;) {
-        watch(std::chrono::milliseconds(20));
-        lifter->poll(std::chrono::milliseconds(0));
-    }
+    // Both clients polled until the watcher has seen `frame` (or `limit` passes).
+    auto follow_until = [&](std::uint64_t frame, std::chrono::seconds limit) {
+        for (auto end = std::chrono::steady_clock::now() + limit;
+             last < frame && std::chrono::steady_clock::now() < end;) {
+            watch(std::chrono::milliseconds(20));
+            lifter->poll(std::chrono::milliseconds(0));
+        }
+    };
+    follow_until(60, std::chrono::seconds(60));
     ASSERT_GE(last, 60u) << testing::log_tails(cluster.log_dir);
     ASSERT_LT(last, 120u) << "the lifts start early in the run";
     // The lifts go on from a thread of their own while the worker is killed, so that they keep coming in
@@ -1339,11 +1343,7 @@ TEST(Cluster, AWorkerKilledWhileCommandsComeHasAllItsSectorsSteppedAgainAndEachC
     lifting.join();
     ASSERT_EQ(killed, 0);
     ASSERT_GT(flowing_from.load(), 0u) << "lifts applied before the kill";
-    for (auto end = std::chrono::steady_clock::now() + std::chrono::seconds(90);
-         last < kFrames && std::chrono::steady_clock::now() < end;) {
-        watch(std::chrono::milliseconds(20));
-        lifter->poll(std::chrono::milliseconds(0));
-    }
+    follow_until(kFrames, std::chrono::seconds(90));
     EXPECT_EQ(last, kFrames) << testing::log_tails(cluster.log_dir);
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
 
