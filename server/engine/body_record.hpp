@@ -12,6 +12,7 @@
 #include "aabb.hpp"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "overhang_bound.hpp"
 #include "sector_id.hpp"
 
 namespace lpss::engine {
@@ -47,6 +48,8 @@ struct BorderEntry {
     /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
     SectorKey fat_frame;
     bool has_fat = false;
+    /// Where its fat box's overhang is counted (Sector::overhangs): the bucket, and the sector.
+    std::uint8_t overhang_bucket = OverhangBound::kNoBucket;
     struct Leaf {
         SectorKey cell;
         btDbvtNode* node = nullptr;
@@ -56,6 +59,7 @@ struct BorderEntry {
     /// sector and the place. None while it has no partners; stale for a moment after it changes sector.
     SectorId listed_in;
     std::uint32_t listed_at = 0;
+    SectorId overhang_in;
 };
 
 /// Hot fields first: the stages walk these records every frame.

@@ -52,6 +52,7 @@ BorderIndex::BorderIndex(const WorldSettings& settings, std::vector<BodyRecord>&
       // A sector's anchor moving makes its broadphase boxes anew from float positions: they may differ
       // from those measured by the rounding of coordinates up to a few sectors out.
       overhang_tolerance_(1e-5 * settings.sector_size + 1e-4),
+      overhang_unit_(settings.sector_size / 4.0),
       bodies_(bodies),
       sectors_(sectors) {}
 
@@ -84,30 +85,55 @@ const Aabb& BorderIndex::current_reach(std::uint32_t slot, std::uint64_t frame) 
 
 bool BorderIndex::prepare_reach(std::uint32_t slot, std::uint64_t frame) {
     const Aabb& tight = current_reach(slot, frame);
-    const BodyRecord& rec = bodies_[slot];
+    BodyRecord& rec = bodies_[slot];
     const BorderEntry& entry = rec.border;
     Sector& sector = sector_of(rec);
     // What update checks before it returns early, and what relist would find to do.
     if (!entry.has_fat || !(entry.fat_frame == sector.key) || !entry.fat.contains(tight)) return false;
+    // Its overhang counted in another sector (it came back to a sector made anew under the same key): moved
+    // by update, serially, for this thread may touch only the sector it steps.
+    if (entry.overhang_in.valid() && entry.overhang_in != rec.sector && sectors_.get(entry.overhang_in))
+        return false;
     // The step moved its broadphase box within the fat box it keeps: queries of the sector must reach as
     // far. (Only this thread steps the sector, and queries come after every thread is done.)
     note_overhang(rec, sector);
     return entry.partners.empty() ? !entry.listed_in.valid() : entry.listed_in == rec.sector;
 }
 
-void BorderIndex::note_overhang(const BodyRecord& rec, Sector& sector) const {
+void BorderIndex::note_overhang(BodyRecord& rec, Sector& sector) {
     const btBroadphaseProxy* proxy = rec.rb->getBroadphaseHandle();
     if (proxy == nullptr) return;
     const Eigen::Vector3d lo = sector.from_physics(proxy->m_aabbMin);
     const Eigen::Vector3d hi = sector.from_physics(proxy->m_aabbMax);
-    const Aabb& fat = rec.border.fat;
-    const double overhang = std::max((fat.max - hi).maxCoeff(), (lo - fat.min).maxCoeff());
-    sector.fat_excess = std::max(sector.fat_excess, overhang + overhang_tolerance_);
+    BorderEntry& entry = rec.border;
+    const double overhang =
+        std::max((entry.fat.max - hi).maxCoeff(), (lo - entry.fat.min).maxCoeff()) + overhang_tolerance_;
+    const std::uint8_t bucket = OverhangBound::bucket_of(overhang, overhang_unit_);
+    if (entry.overhang_in == sector.id && entry.overhang_bucket == bucket) {
+        if (bucket == OverhangBound::kBuckets - 1) sector.overhangs.add_beyond(overhang);
+        return;
+    }
+    uncount_overhang(entry);
+    sector.overhangs.add(bucket, overhang);
+    entry.overhang_bucket = bucket;
+    entry.overhang_in = sector.id;
+}
+
+void BorderIndex::uncount_overhang(BorderEntry& entry) {
+    if (!entry.overhang_in.valid()) return;
+    // A sector destroyed since has taken its counts with it.
+    if (Sector* was = sectors_.get(entry.overhang_in)) was->overhangs.remove(entry.overhang_bucket);
+    entry.overhang_in = SectorId{};
+    entry.overhang_bucket = OverhangBound::kNoBucket;
+}
+
+double BorderIndex::query_growth(const Sector& sector) const {
+    return sector.overhangs.bound(overhang_unit_);
 }
 
 void BorderIndex::note_bounds_changed(std::uint32_t slot) {
     forget_reach(slot);
-    const BodyRecord& rec = bodies_[slot];
+    BodyRecord& rec = bodies_[slot];
     if (!rec.alive || rec.plane || !rec.border.has_fat) return;
     Sector& sector = sector_of(rec);
     if (rec.border.fat_frame == sector.key) note_overhang(rec, sector);
@@ -160,6 +186,7 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
 void BorderIndex::remove(std::uint32_t slot) {
     drop_pairs(slot);
     remove_leaves(slot);
+    uncount_overhang(bodies_[slot].border);
 }
 
 void BorderIndex::place_leaves(std::uint32_t slot) {
@@ -264,7 +291,7 @@ void BorderIndex::refresh_pairs(std::uint32_t slot) {
         tree.collideTV(tree.m_root, leaf.node->volume, leaves);
         if (Sector* sector = sectors_.find(leaf.cell)) {
             const Aabb query = entry.fat.translated(grid_.centre_offset(leaf.cell, entry.fat_frame))
-                                   .grown(sector->fat_excess)
+                                   .grown(query_growth(*sector))
                                    .translated(-sector->anchor);
             sector->broadphase.aabbTest(to_bt(query.min), to_bt(query.max), originals);
         }
@@ -272,6 +299,7 @@ void BorderIndex::refresh_pairs(std::uint32_t slot) {
     if (auto own = cell_trees_.find(entry.fat_frame); own != cell_trees_.end()) {
         own->second->tree.collideTV(own->second->tree.m_root, volume(entry.fat), leaves);
     }
+    candidates_found_ += found_scratch_.size();
     std::sort(found_scratch_.begin(), found_scratch_.end());
     found_scratch_.erase(std::unique(found_scratch_.begin(), found_scratch_.end()), found_scratch_.end());
     for (std::uint32_t other : found_scratch_) {

@@ -53,7 +53,7 @@ public:
     /// Computes a body's tight reach for `frame` ahead of update, from the thread that has just stepped
     /// its sector (where the body is in cache, and in parallel: Box2D checks its fat boxes in the
     /// solver's threads for the same reason). Touches only this body's entry and its sector's
-    /// fat_excess (note_overhang): a sector is stepped by one thread. Whatever changes the body
+    /// overhangs (note_overhang): a sector is stepped by one thread. Whatever changes the body
     /// before that frame's update must call forget_reach (note_bounds_changed if it moved the body's
     /// broadphase box) and have the body updated. Returns whether that
     /// update would have nothing to do: the reach within its fat box, in the box's sector, the body
@@ -83,6 +83,12 @@ public:
     void remove(std::uint32_t slot);
     /// Bodies whose fat box enters another cell.
     std::size_t border_bodies() const { return border_bodies_; }
+    /// Bodies the queries of refreshed fat boxes have found (cell trees and sectors' broadphases, before
+    /// their fat boxes are compared), since the index was made: what re-examining a body costs.
+    std::uint64_t candidates_found() const { return candidates_found_; }
+    /// How much a query for a sector's bodies by fat box is grown: at least the most any of its bodies'
+    /// fat boxes overhangs its broadphase box (Sector::overhangs).
+    double query_growth(const Sector& sector) const;
 
 private:
     struct CellTree {
@@ -102,12 +108,15 @@ private:
     /// sector now are.
     void relist(std::uint32_t slot);
     bool fat_overlap(const BorderEntry& a, const BorderEntry& b) const;
-    /// Grows the sector's fat_excess to how far the body's fat box reaches beyond its broadphase box now.
+    /// Counts how far the body's fat box reaches beyond its broadphase box now in the sector's overhangs
+    /// (its count moved there from wherever it was).
     /// A sector's bodies are found by fat box through its broadphase, which holds their broadphase boxes:
     /// a query grown by the most any fat box overhangs its body's box finds every one it overlaps. Measured
     /// each time a box moves (the step, a command, a new fat box), not bounded from the fat box's growth:
     /// a box turning from 45 degrees to flat shrinks its broadphase box by more than any slack.
-    void note_overhang(const BodyRecord& record, Sector& sector) const;
+    void note_overhang(BodyRecord& record, Sector& sector);
+    /// Takes the body's overhang out of the sector it is counted in.
+    void uncount_overhang(BorderEntry& entry);
     Sector& sector_of(const BodyRecord& record) const { return sectors_.at(record.sector); }
 
     SectorGrid grid_;
@@ -116,11 +125,13 @@ private:
     double frame_dt_;
     double reach_margin_;        ///< contact distance added to every reach box
     double overhang_tolerance_;  ///< added to each overhang noted (note_overhang)
+    double overhang_unit_;       ///< the scale of Sector::overhangs: a quarter sector
     std::vector<BodyRecord>& bodies_;
     SectorTable& sectors_;
     /// For each cell some body's fat box touches, the tree of those boxes.
     std::unordered_map<SectorKey, std::unique_ptr<CellTree>, SectorKeyHash> cell_trees_;
     std::size_t border_bodies_ = 0;
+    std::uint64_t candidates_found_ = 0;
     std::vector<std::uint32_t> found_scratch_;  ///< kept to avoid allocation per refresh
 };
 

@@ -213,8 +213,8 @@ void World::Impl::check_clones() {
         out << "body " << r.id << " in sector (" << key.i << "," << key.j << "," << key.k << "): fat box ("
             << fat.min.transpose() << ")-(" << fat.max.transpose() << ") in sector (" << r.border.fat_frame.i
             << "," << r.border.fat_frame.j << "," << r.border.fat_frame.k << "), reach ("
-            << reach.min.transpose() << ")-(" << reach.max.transpose() << "), its sector's fat excess "
-            << sectors.at(r.sector).fat_excess;
+            << reach.min.transpose() << ")-(" << reach.max.transpose() << "), its sector's query growth "
+            << border.query_growth(sectors.at(r.sector));
         return out.str();
     };
     for (SectorId id : step_set) {

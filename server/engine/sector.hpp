@@ -19,6 +19,7 @@
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
 #include "lpss/common/world_settings.hpp"
+#include "overhang_bound.hpp"
 #include "sector_id.hpp"
 
 namespace lpss::engine {
@@ -124,10 +125,10 @@ public:
     /// enlarged-box flags, set in its solver's threads, serve the same end).
     std::vector<std::uint32_t> visits;
 
-    /// The most any original's fat reach box has reached beyond its broadphase box, measured each time
+    /// How far its originals' fat reach boxes reach beyond their broadphase boxes, measured each time
     /// either moved (BorderIndex::note_overhang): the growth of queries that look for this sector's
-    /// bodies by fat box. It only grows.
-    double fat_excess = 0.0;
+    /// bodies by fat box.
+    OverhangBound overhangs;
     bool awake = false;   ///< holds an awake dynamic original
     bool remote = false;  ///< simulated by another process: holds ghosts, never stepped here
     bool in_awake_list = false;

@@ -648,8 +648,10 @@ void World::Impl::step() {
     pending_destroy.clear();
     auto sectorized = std::chrono::steady_clock::now();
 
+    const std::uint64_t found_before = border.candidates_found();
     clone_stage(candidates);
     auto cloned = std::chrono::steady_clock::now();
+    stats.border_candidates = border.candidates_found() - found_before;
 
     step_sectors();
     auto stepped = std::chrono::steady_clock::now();

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "engine_test_support.hpp"
 
@@ -225,6 +226,53 @@ TEST(Borders, BodiesDriftingWithinTheirSlackCostNothingSerially) {
     // A slow ball moved all along (about 0.075 units in 90 frames), unvisited.
     EXPECT_NEAR((world.body(1)->position.local - first).x(), 0.05 * 90 / 60.0, 1e-3);
     EXPECT_EQ(world.last_frame_stats().sector_changes, 0u);
+}
+
+TEST(Borders, AFastBodyGoneLeavesItsSectorsQueriesAsTheyWere) {
+    // Two drifting lattices of 729 bodies in sectors of 8 (about half near a border); in one, a fast ball
+    // flies under the bodies through two of their sectors (60 units/s: a fat box stretched and widened to
+    // the most kFatLookaheadFrames and the slack allow, some 3 units beyond its broadphase box) and on into
+    // empty sectors, touching none. A sector's bodies are found by fat box through its broadphase, grown by
+    // how far its bodies' fat boxes overhang their boxes; that growth once only rose, and the queries there
+    // found several times as many candidates long after the ball had gone. They must come back to those of
+    // the world without it.
+    Scene scene;
+    scene.settings.sector_size = 8.0;
+    scene.settings.gravity = Eigen::Vector3d::Zero();
+    scene.settings.sleeping = false;
+    std::mt19937_64 random(99);
+    std::uniform_real_distribution<double> speed(-0.6, 0.6);
+    for (int n = 0; n < 729; ++n) {
+        const Eigen::Vector3d at(1.2 * (n % 9), 1.2 * (n / 9 % 9), 1.2 * (n / 81));
+        BodyDesc body =
+            n % 2 ? scenes::sphere_body(static_cast<BodyId>(n + 1), 0.45, 1.0, at)
+                  : scenes::box_body(static_cast<BodyId>(n + 1), Eigen::Vector3d::Constant(0.4), 1.0, at);
+        body.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
+        scene.bodies.push_back(body);
+    }
+    World without = make_world(scene);
+    World with = make_world(scene);
+    // Below the lattice, in the sectors of its lowest bodies (y in [-4, 4)), 2 units under their fat boxes.
+    BodyDesc fast = scenes::sphere_body(5000, 0.3, 1.0, Eigen::Vector3d(-3.0, -3.5, 4.8));
+    fast.linear_velocity = Eigen::Vector3d(60.0, 0.0, 0.0);
+    run(without, 2);
+    run(with, 2);
+    ASSERT_TRUE(with.add_body(fast));
+    std::uint64_t found_with = 0, found_without = 0;
+    for (int f = 3; f <= 90; ++f) {
+        without.step();
+        with.step();
+        ASSERT_EQ(with.last_frame_stats().clones, without.last_frame_stats().clones)
+            << "frame " << f << ": the fast ball must touch nothing";
+        if (f < 30) continue;  // by frame 30 the ball is 24 units on, 2 sectors past the lattice
+        found_with += with.last_frame_stats().border_candidates;
+        found_without += without.last_frame_stats().border_candidates;
+    }
+    ASSERT_GT(with.body(5000)->position.sector.i, 3) << "the fast ball must have left the lattice's sectors";
+    ASSERT_GT(found_without, 1000u) << "the lattice's bodies must keep leaving their fat boxes";
+    const double ratio = static_cast<double>(found_with) / static_cast<double>(found_without);
+    EXPECT_GT(ratio, 0.8) << found_with << " against " << found_without;
+    EXPECT_LT(ratio, 1.25) << found_with << " against " << found_without;
 }
 
 }  // namespace

@@ -228,7 +228,7 @@ TEST(RandomCalls, InvariantsHoldAfterEveryCall) {
 TEST(RandomCalls, BodiesTurnedWhereTheyAreKeepEveryCloneTheyNeed) {
     // Bodies turned and shifted a little where they are, near borders: their broadphase boxes shrink and
     // grow inside fat boxes they keep, and a query of their sector must still find them by fat box (a
-    // sector's fat_excess, border_index.hpp). 100 sessions of 400 calls.
+    // sector's overhangs, border_index.hpp). 100 sessions of 400 calls.
     const std::uint64_t one = env_or("LPSS_RANDOM_SEED", 0);
     const std::uint64_t sessions = one ? 1 : env_or("LPSS_RANDOM_SEEDS", 100);
     for (std::uint64_t n = 0; n < sessions && !HasFailure(); ++n) {

@@ -93,8 +93,11 @@ struct FrameStats {
     std::size_t grouped_sectors = 0;  ///< of those, sectors stepped in groups sharing solver calls
     std::size_t sector_changes = 0;   ///< bodies that moved to another sector
     std::size_t border_bodies = 0;    ///< bodies whose reach crosses their sector's border
-    std::size_t clones = 0;           ///< clones in sectors, planes' per-sector instances excluded
-    std::size_t spare_clones = 0;     ///< clones kept in per-body pools for reuse
+    /// Bodies found by the border index's queries for the bodies that left their fat reach boxes this
+    /// frame, before those boxes are compared: the work of finding new pairs to clone.
+    std::size_t border_candidates = 0;
+    std::size_t clones = 0;        ///< clones in sectors, planes' per-sector instances excluded
+    std::size_t spare_clones = 0;  ///< clones kept in per-body pools for reuse
     std::size_t touching_pairs = 0;
     /// Bodies the serial stages (sectorize, clone) looked at: those the last step moved past the
     /// hysteresis band or out of their fat reach box, and those calls touched since. A body drifting
