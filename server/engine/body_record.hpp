@@ -49,7 +49,7 @@ struct BorderEntry {
     SectorKey fat_frame;
     bool has_fat = false;
     /// Where its fat box's overhang is counted (Sector::overhangs): the bucket, and the sector.
-    std::uint8_t overhang_bucket = OverhangBound::kNoBucket;
+    std::uint8_t overhang_bucket = OverhangScale::kNoBucket;
     struct Leaf {
         SectorKey cell;
         btDbvtNode* node = nullptr;

@@ -52,7 +52,7 @@ BorderIndex::BorderIndex(const WorldSettings& settings, std::vector<BodyRecord>&
       // A sector's anchor moving makes its broadphase boxes anew from float positions: they may differ
       // from those measured by the rounding of coordinates up to a few sectors out.
       overhang_tolerance_(1e-5 * settings.sector_size + 1e-4),
-      overhang_unit_(settings.sector_size / 4.0),
+      overhang_scale_(settings.sector_size / 4.0),
       bodies_(bodies),
       sectors_(sectors) {}
 
@@ -108,7 +108,7 @@ void BorderIndex::note_overhang(BodyRecord& rec, Sector& sector) {
     BorderEntry& entry = rec.border;
     const double overhang =
         std::max((entry.fat.max - hi).maxCoeff(), (lo - entry.fat.min).maxCoeff()) + overhang_tolerance_;
-    const std::uint8_t bucket = OverhangBound::bucket_of(overhang, overhang_unit_);
+    const std::uint8_t bucket = overhang_scale_.bucket_of(overhang, entry.overhang_bucket);
     if (entry.overhang_in == sector.id && entry.overhang_bucket == bucket) {
         if (bucket == OverhangBound::kBuckets - 1) sector.overhangs.add_beyond(overhang);
         return;
@@ -124,11 +124,11 @@ void BorderIndex::uncount_overhang(BorderEntry& entry) {
     // A sector destroyed since has taken its counts with it.
     if (Sector* was = sectors_.get(entry.overhang_in)) was->overhangs.remove(entry.overhang_bucket);
     entry.overhang_in = SectorId{};
-    entry.overhang_bucket = OverhangBound::kNoBucket;
+    entry.overhang_bucket = OverhangScale::kNoBucket;
 }
 
 double BorderIndex::query_growth(const Sector& sector) const {
-    return sector.overhangs.bound(overhang_unit_);
+    return sector.overhangs.bound(overhang_scale_);
 }
 
 void BorderIndex::note_bounds_changed(std::uint32_t slot) {

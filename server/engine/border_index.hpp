@@ -123,9 +123,9 @@ private:
     double sector_size_;
     double reach_dt_;  ///< the time a tight reach sweeps: the last substep and the coming frame
     double frame_dt_;
-    double reach_margin_;        ///< contact distance added to every reach box
-    double overhang_tolerance_;  ///< added to each overhang noted (note_overhang)
-    double overhang_unit_;       ///< the scale of Sector::overhangs: a quarter sector
+    double reach_margin_;           ///< contact distance added to every reach box
+    double overhang_tolerance_;     ///< added to each overhang noted (note_overhang)
+    OverhangScale overhang_scale_;  ///< the buckets of Sector::overhangs
     std::vector<BodyRecord>& bodies_;
     SectorTable& sectors_;
     /// For each cell some body's fat box touches, the tree of those boxes.

@@ -18,22 +18,35 @@
 
 namespace lpss::engine {
 
+/// The buckets' scale: bucket b < 63 holds overhangs up to top(b) = unit * 2^((b - 62) / 8), bucket 63 the
+/// larger ones. `unit`: a quarter sector serves (a fat box's slack and lookahead are at most an eighth each).
+class OverhangScale {
+public:
+    static constexpr int kBuckets = 64;
+    static constexpr std::uint8_t kNoBucket = 0xff;
+
+    explicit OverhangScale(double unit) {
+        for (int b = 0; b < kBuckets - 1; ++b)
+            tops_[static_cast<std::size_t>(b)] = unit * std::exp2((b - (kBuckets - 2)) / 8.0);
+    }
+    /// The bucket of an overhang; `was`, its bucket before, is checked first (an overhang noted again mostly
+    /// stays in it).
+    std::uint8_t bucket_of(double overhang, std::uint8_t was = kNoBucket) const {
+        if (was < kBuckets - 1 && overhang <= tops_[was] && (was == 0 || overhang > tops_[was - 1u]))
+            return was;
+        return static_cast<std::uint8_t>(std::lower_bound(tops_.begin(), tops_.end(), overhang) -
+                                         tops_.begin());
+    }
+    double top(std::uint8_t bucket) const { return tops_[bucket]; }
+
+private:
+    std::array<double, kBuckets - 1> tops_{};
+};
+
+/// The bodies of one sector, counted by bucket.
 class OverhangBound {
 public:
-    static constexpr std::uint8_t kNoBucket = 0xff;
-    static constexpr int kBuckets = 64;
-
-    /// `unit`: the overhang at the top of the scale's last bounded bucket (a quarter sector serves: a fat
-    /// box's slack and lookahead are at most an eighth each). Larger ones share an unbounded bucket.
-    static std::uint8_t bucket_of(double overhang, double unit) {
-        if (overhang > unit) return kBuckets - 1;
-        const double steps = std::ceil(8.0 * std::log2(std::max(overhang, 1e-300) / unit));
-        return static_cast<std::uint8_t>(std::max(0.0, kBuckets - 2 + steps));
-    }
-    /// The largest overhang a bounded bucket holds.
-    static double top_of(std::uint8_t bucket, double unit) {
-        return unit * std::exp2((static_cast<double>(bucket) - (kBuckets - 2)) / 8.0);
-    }
+    static constexpr int kBuckets = OverhangScale::kBuckets;
 
     void add(std::uint8_t bucket, double overhang) {
         if (counts_[bucket]++ == 0) occupied_ |= std::uint64_t{1} << bucket;
@@ -47,10 +60,10 @@ public:
         if (bucket == kBuckets - 1) beyond_ = 0.0;
     }
     /// At least the overhang of every body counted (0 with none).
-    double bound(double unit) const {
+    double bound(const OverhangScale& scale) const {
         if (occupied_ == 0) return 0.0;
         const auto highest = static_cast<std::uint8_t>(63 - __builtin_clzll(occupied_));
-        return highest == kBuckets - 1 ? beyond_ : top_of(highest, unit);
+        return highest == kBuckets - 1 ? beyond_ : scale.top(highest);
     }
 
 private:
