@@ -48,6 +48,8 @@ struct BorderEntry {
     /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
     SectorKey fat_frame;
     bool has_fat = false;
+    bool made_moving =
+        false;  ///< the fat box was made for a moving body (a slack or a stretch beyond rest's)
     /// Where its fat box's overhang is counted (Sector::overhangs): the bucket, and the sector.
     std::uint8_t overhang_bucket = OverhangScale::kNoBucket;
     struct Leaf {

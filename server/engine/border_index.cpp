@@ -90,6 +90,7 @@ bool BorderIndex::prepare_reach(std::uint32_t slot, std::uint64_t frame) {
     Sector& sector = sector_of(rec);
     // What update checks before it returns early, and what relist would find to do.
     if (!entry.has_fat || !(entry.fat_frame == sector.key) || !entry.fat.contains(tight)) return false;
+    if (asleep_in_a_moving_box(rec)) return false;
     // Its overhang counted in another sector (it came back to a sector made anew under the same key): moved
     // by update, serially, for this thread may touch only the sector it steps.
     if (entry.overhang_in.valid() && entry.overhang_in != rec.sector && sectors_.get(entry.overhang_in))
@@ -139,6 +140,10 @@ void BorderIndex::note_bounds_changed(std::uint32_t slot) {
     if (rec.border.fat_frame == sector.key) note_overhang(rec, sector);
 }
 
+bool BorderIndex::asleep_in_a_moving_box(const BodyRecord& rec) const {
+    return rec.border.made_moving && rec.dynamic && !rec.rb->isActive();
+}
+
 bool BorderIndex::reaches_meet(std::uint32_t a, std::uint32_t b, std::uint64_t frame) {
     const Aabb& ra = current_reach(a, frame);
     const Aabb& rb = current_reach(b, frame);
@@ -155,7 +160,8 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     const Aabb& tight = current_reach(slot, frame);
     Sector& sector = sector_of(rec);
     BorderEntry& entry = rec.border;
-    if (entry.has_fat && entry.fat_frame == sector.key && entry.fat.contains(tight)) {
+    if (entry.has_fat && entry.fat_frame == sector.key && entry.fat.contains(tight) &&
+        !asleep_in_a_moving_box(rec)) {
         note_overhang(rec, sector);  // (a command may have moved it within its fat box)
         return;
     }
@@ -178,6 +184,7 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
     entry.fat.max += ahead.cwiseMax(0.0);
     entry.fat_frame = sector.key;
     entry.has_fat = true;
+    entry.made_moving = slack > 0.1 || ahead.norm() > 0.1;
     note_overhang(rec, sector);
     place_leaves(slot);
     refresh_pairs(slot);

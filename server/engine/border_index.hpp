@@ -108,6 +108,10 @@ private:
     /// sector now are.
     void relist(std::uint32_t slot);
     bool fat_overlap(const BorderEntry& a, const BorderEntry& b) const;
+    /// A body fallen asleep in a fat box made while it moved (stretched along its old velocity, with the
+    /// slack of its old speed) would keep that box for as long as it sleeps, and with it partners and its
+    /// sector's query growth: it is given a box as tight as a resting body's, once.
+    bool asleep_in_a_moving_box(const BodyRecord& record) const;
     /// Counts how far the body's fat box reaches beyond its broadphase box now in the sector's overhangs
     /// (its count moved there from wherever it was).
     /// A sector's bodies are found by fat box through its broadphase, which holds their broadphase boxes:

@@ -228,6 +228,42 @@ TEST(Borders, BodiesDriftingWithinTheirSlackCostNothingSerially) {
     EXPECT_EQ(world.last_frame_stats().sector_changes, 0u);
 }
 
+TEST(Borders, ABodyFallenAsleepKeepsNoFatBoxOfItsMotion) {
+    // A ball 0.6 from its sector's border moving away from it at 30 units/s: its fat box has the slack of
+    // that speed (an eighth of the sector) and reaches into the next cell. Stopped where it is, it stays
+    // inside that box; once asleep it is given a box as tight as a resting body's, which keeps to its own
+    // cell (a box kept from its motion would have kept it a border body, with partners and a wider query
+    // growth for its sector, for as long as it slept).
+    Scene scene;
+    scene.settings.sector_size = 8.0;
+    scene.settings.gravity = Eigen::Vector3d::Zero();
+    scene.settings.sleeping = true;
+    BodyDesc ball = scenes::sphere_body(1, 0.3, 1.0, Eigen::Vector3d(3.4, 0.0, 0.0));
+    ball.linear_velocity = Eigen::Vector3d(-30.0, 0.0, 0.0);
+    scene.bodies.push_back(ball);
+    World world = make_world(scene);
+    world.step();
+    ASSERT_EQ(world.last_frame_stats().border_bodies, 1u) << "a fast body's box reaches 0.6 and more";
+    BodySnapshot stopped = *world.body(1);
+    stopped.position.local = Eigen::Vector3d(3.4, 0.0, 0.0);
+    stopped.linear_velocity = Eigen::Vector3d::Zero();
+    ASSERT_TRUE(world.set_state(stopped));
+    int asleep_at = 0;
+    for (int f = 2; f <= 400 && asleep_at == 0; ++f) {
+        world.step();
+        if (!world.body(1)->awake) {
+            asleep_at = f;
+        } else {
+            ASSERT_EQ(world.last_frame_stats().border_bodies, 1u) << "frame " << f << ": awake in its box";
+        }
+    }
+    ASSERT_GT(asleep_at, 0) << "the stopped ball must fall asleep";
+    world.step();  // its new box is made in the frame after the step that put it to sleep
+    EXPECT_EQ(world.last_frame_stats().border_bodies, 0u) << "asleep at frame " << asleep_at;
+    EXPECT_FALSE(world.body(1)->awake);
+    EXPECT_NEAR(world.body(1)->position.local.x(), 3.4, 1e-6);
+}
+
 TEST(Borders, AFastBodyGoneLeavesItsSectorsQueriesAsTheyWere) {
     // Two drifting lattices of 729 bodies in sectors of 8 (about half near a border); in one, a fast ball
     // flies under the bodies through two of their sectors (60 units/s: a fat box stretched and widened to
