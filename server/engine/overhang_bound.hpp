@@ -4,7 +4,7 @@
 // The border index finds a sector's bodies by fat box through the sector's Bullet broadphase, which holds
 // their broadphase boxes; a query grown by the most any fat box there overhangs its body's box finds every
 // fat box it overlaps. Kept as the running maximum, that growth only ever rose: one fast body once in a
-// sector (a fat box stretched by a second of travel) widened every later query there for good, long after
+// sector (a fat box stretched by half a second's travel) widened every later query there for good, long after
 // it had gone (seen: 2.3 units in a million-body cluster world whose mean was 0.21). Here each body is
 // counted in one bucket of a geometric scale (eight per doubling, so the bound is at most 9% over the
 // largest overhang counted), and the bound is the top of the highest bucket that holds a body: it falls
