@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# CPU time per frame of each process of a localhost cluster: runs lpss-cluster on a scene in a loopback-only
+# network namespace of its own, reads each process's user+system time from /proc and the frame from the
+# live line twice, FROM and TO seconds after the start, and prints the difference per frame.
+# usage: deploy/cpu-per-frame.sh SCENE WORKERS [FROM TO [DOMAIN]]   (defaults: 6 s, 10 s, domain 230)
+# Uses build/server/lpss-cluster (deploy/setup.sh builds it). Long scenes: make FROM later than the load.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+scene="$1" workers="$2" from="${3:-6}" to="${4:-10}" domain="${5:-230}"
+out="$(mktemp -d)"
+unshare -rn sh -c "ip link set lo up; exec '$root/build/server/lpss-cluster' '$scene' --workers $workers \
+    --frames 100000000 --domain $domain" >"$out/cluster.out" 2>&1 &
+cluster=$!
+trap 'kill $cluster 2>/dev/null; wait $cluster 2>/dev/null; rm -rf "$out"' EXIT
+ticks=$(getconf CLK_TCK)
+# One line per process: pid, user+system ticks, and what it is (worker N, coordinator, standby).
+sample() {
+    for pid in $(pgrep -f "lpss-(worker|coordinator) --domain $domain "); do
+        local times
+        times=$(awk '{ print $14 + $15 }' "/proc/$pid/stat" 2>/dev/null) || continue
+        echo "$pid $times $(tr '\0' ' ' <"/proc/$pid/cmdline" | awk '{ print ($1 ~ /worker$/) ? "worker_" $5 : (/--standby/ ? "standby" : "coordinator") }')"
+    done
+}
+frame() { grep -a '^frame' "$out/cluster.out" | tail -n 1 | awk '{ print $2 }'; }
+sleep "$from"
+f1=$(frame) s1=$(sample)
+sleep "$((to - from))"
+f2=$(frame) s2=$(sample)
+if [[ -z "$f1" || -z "$f2" || "$f2" -le "$f1" ]]; then
+    echo "no frames between ${from} s and ${to} s; lpss-cluster said:" >&2
+    tail -n 5 "$out/cluster.out" >&2
+    exit 1
+fi
+echo "frames $f1 to $f2 ($scene, $workers worker(s)); CPU ms per frame:"
+awk -v frames=$((f2 - f1)) -v ticks="$ticks" '
+    NR == FNR { before[$1] = $2; next }
+    ($1 in before) { ms = 1000 * ($2 - before[$1]) / ticks / frames; total += ms
+                     printf "%8.2f  %s (pid %s)\n", ms, $3, $1 }
+    END { printf "%8.2f  all\n", total }' <(echo "$s1") <(echo "$s2" | sort -n)
