@@ -48,8 +48,8 @@ struct BorderEntry {
     /// the sector itself); refreshed when the body changes sector. No fat box yet: has_fat is false.
     SectorKey fat_frame;
     bool has_fat = false;
-    bool made_moving =
-        false;  ///< the fat box was made for a moving body (a slack or a stretch beyond rest's)
+    /// The fat box was made for a moving body (a slack or a stretch beyond a resting body's).
+    bool made_moving = false;
     /// Where its fat box's overhang is counted (Sector::overhangs): the bucket, and the sector.
     std::uint8_t overhang_bucket = OverhangScale::kNoBucket;
     struct Leaf {
@@ -61,7 +61,7 @@ struct BorderEntry {
     /// sector and the place. None while it has no partners; stale for a moment after it changes sector.
     SectorId listed_in;
     std::uint32_t listed_at = 0;
-    SectorId overhang_in;
+    SectorId overhang_in;  ///< (with overhang_bucket)
 };
 
 /// Hot fields first: the stages walk these records every frame.

@@ -2,36 +2,11 @@
 // bodies, up to 100,000, with many bodies near borders, beside the time of stepping.
 #include <fmt/format.h>
 
-#include <cmath>
-#include <random>
-
 #include "scenes.hpp"
 #include "subcommands.hpp"
 
 namespace lpss::bench {
-namespace {
-
-/// Bodies (about 0.9 across) in a 3D lattice 1.2 units apart, drifting at up to 1 unit/s in random
-/// directions without gravity: they collide within a second, and with L = 8 about half of them are near
-/// a border at any time, and they keep crossing.
-Scene drifting_lattice(int count, double sector_size) {
-    Scene s;
-    s.settings.sector_size = sector_size;
-    s.settings.sleeping = false;
-    std::mt19937_64 random(12345);
-    std::uniform_real_distribution<double> speed(-0.6, 0.6);
-    const int side = static_cast<int>(std::ceil(std::cbrt(count)));
-    for (int n = 0; n < count; ++n) {
-        Eigen::Vector3d p(1.2 * (n % side), 1.2 * (n / side % side), 1.2 * (n / (side * side)));
-        BodyDesc b = n % 2 ? scenes::sphere_body(n + 1, 0.45, 1.0, p)
-                           : scenes::box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
-        b.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
-        s.bodies.push_back(b);
-    }
-    return s;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void run_overhead(const Context& context) {
     Table table({"config", "sector_size", "bodies", "frames", "sectors", "border_bodies", "clones",
@@ -54,7 +29,7 @@ void run_overhead(const Context& context) {
         std::vector<std::vector<std::string>> rows[2];
         for (int n : counts) {
             progress(fmt::format("overhead: {} with {} bodies", config.label(), n));
-            World world = make_world(drifting_lattice(n, L), config.options());
+            World world = make_world(scenes::drifting_lattice(n, L), config.options());
             int frame = 0;
             for (int w = 0; w < 2; ++w) {
                 const Window& window = windows[w];

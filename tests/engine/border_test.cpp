@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 
 #include "engine_test_support.hpp"
 
@@ -272,20 +271,7 @@ TEST(Borders, AFastBodyGoneLeavesItsSectorsQueriesAsTheyWere) {
     // how far its bodies' fat boxes overhang their boxes; that growth once only rose, and the queries there
     // found several times as many candidates long after the ball had gone. They must come back to those of
     // the world without it.
-    Scene scene;
-    scene.settings.sector_size = 8.0;
-    scene.settings.gravity = Eigen::Vector3d::Zero();
-    scene.settings.sleeping = false;
-    std::mt19937_64 random(99);
-    std::uniform_real_distribution<double> speed(-0.6, 0.6);
-    for (int n = 0; n < 729; ++n) {
-        const Eigen::Vector3d at(1.2 * (n % 9), 1.2 * (n / 9 % 9), 1.2 * (n / 81));
-        BodyDesc body =
-            n % 2 ? scenes::sphere_body(static_cast<BodyId>(n + 1), 0.45, 1.0, at)
-                  : scenes::box_body(static_cast<BodyId>(n + 1), Eigen::Vector3d::Constant(0.4), 1.0, at);
-        body.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
-        scene.bodies.push_back(body);
-    }
+    const Scene scene = scenes::drifting_lattice(729, 8.0, 99);
     World without = make_world(scene);
     World with = make_world(scene);
     // Below the lattice, in the sectors of its lowest bodies (y in [-4, 4)), 2 units under their fat boxes.

@@ -164,6 +164,26 @@ Scene resting_world(std::size_t resting, std::size_t moving, std::uint64_t seed)
     return scene;
 }
 
+Scene drifting_lattice(int count, double sector_size, std::uint64_t seed) {
+    Scene s;
+    s.settings.sector_size = sector_size;
+    s.settings.sleeping = false;
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> speed(-0.6, 0.6);
+    // The smallest cube that holds them (std::cbrt(729) is 9.0000000000000018 here: its ceiling is 10).
+    int side = 1;
+    while (side * side * side < count)
+        ++side;
+    for (int n = 0; n < count; ++n) {
+        Eigen::Vector3d p(1.2 * (n % side), 1.2 * (n / side % side), 1.2 * (n / (side * side)));
+        BodyDesc b = n % 2 ? sphere_body(n + 1, 0.45, 1.0, p)
+                           : box_body(n + 1, Eigen::Vector3d::Constant(0.4), 1.0, p);
+        b.linear_velocity = Eigen::Vector3d(speed(random), speed(random), speed(random));
+        s.bodies.push_back(b);
+    }
+    return s;
+}
+
 Eigen::Vector3d relative_position(const SectorGrid& grid, const BodySnapshot& body, const Centre& centre) {
     SectorPosition c = centre_on(grid, centre);
     return grid.offset_in(body.position, c.sector) - c.local;

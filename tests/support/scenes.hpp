@@ -44,6 +44,12 @@ Scene box_stack(const Centre& base, int count, double sector_size);
 /// grow with the world. Ids: the resting bodies from 2, then the balls.
 Scene resting_world(std::size_t resting, std::size_t moving, std::uint64_t seed = 7);
 
+/// Bodies (about 0.9 across: spheres and boxes in turn, ids from 1) in a 3D lattice 1.2 units apart from the
+/// origin, drifting at up to 1 unit/s in random directions without gravity nor sleeping: they collide
+/// within a second, and with sectors of 8 about half of them are near a border at any time, and they keep
+/// crossing (the overhead benchmark's world, paper Figure 7).
+Scene drifting_lattice(int count, double sector_size, std::uint64_t seed = 12345);
+
 /// Position of a body relative to a centre, computed exactly from sector keys.
 Eigen::Vector3d relative_position(const SectorGrid& grid, const BodySnapshot& body, const Centre& centre);
 
