@@ -179,6 +179,7 @@ void BorderIndex::update(std::uint32_t slot, std::uint64_t frame) {
         ahead = velocity * (kFatLookaheadFrames * frame_dt_);
         if (ahead.norm() > sector_size_ / 8.0) ahead *= sector_size_ / 8.0 / ahead.norm();
     }
+    ++refreshes_;
     entry.fat = tight.grown(slack);
     entry.fat.min += ahead.cwiseMin(0.0);
     entry.fat.max += ahead.cwiseMax(0.0);

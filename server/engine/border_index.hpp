@@ -86,6 +86,9 @@ public:
     /// Bodies the queries of refreshed fat boxes have found (cell trees and sectors' broadphases, before
     /// their fat boxes are compared), since the index was made: what re-examining a body costs.
     std::uint64_t candidates_found() const { return candidates_found_; }
+    /// Fat boxes made since the index was made (update found the tight reach outside the old one, or the
+    /// body in another sector).
+    std::uint64_t refreshes() const { return refreshes_; }
     /// How much a query for a sector's bodies by fat box is grown: at least the most any of its bodies'
     /// fat boxes overhangs its broadphase box (Sector::overhangs).
     double query_growth(const Sector& sector) const;
@@ -136,6 +139,7 @@ private:
     std::unordered_map<SectorKey, std::unique_ptr<CellTree>, SectorKeyHash> cell_trees_;
     std::size_t border_bodies_ = 0;
     std::uint64_t candidates_found_ = 0;
+    std::uint64_t refreshes_ = 0;
     std::vector<std::uint32_t> found_scratch_;  ///< kept to avoid allocation per refresh
 };
 

@@ -266,6 +266,7 @@ Clone& World::Impl::create_clone(std::uint32_t slot, Sector& host) {
     host.world.addRigidBody(clone.rb.get());
     host.hosted.push_back(slot);
     ++clone_count;
+    ++clones_made;
     return clone;
 }
 
@@ -282,6 +283,7 @@ void World::Impl::release_clone(std::uint32_t slot, Sector& host) {
     host.hosted.pop_back();
     forget_contacts(host, rec.id);
     --clone_count;
+    ++clones_released;
     if (rec.spare_clones.size() < options.max_spare_clones) {
         rec.spare_clones.push_back(std::move(rb));
         ++spare_count;

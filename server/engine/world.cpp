@@ -649,9 +649,15 @@ void World::Impl::step() {
     auto sectorized = std::chrono::steady_clock::now();
 
     const std::uint64_t found_before = border.candidates_found();
+    const std::uint64_t refreshed_before = border.refreshes();
+    const std::uint64_t made_before = clones_made;
+    const std::uint64_t released_before = clones_released;
     clone_stage(candidates);
     auto cloned = std::chrono::steady_clock::now();
     stats.border_candidates = border.candidates_found() - found_before;
+    stats.fat_box_refreshes = border.refreshes() - refreshed_before;
+    stats.clones_made = clones_made - made_before;
+    stats.clones_released = clones_released - released_before;
 
     step_sectors();
     auto stepped = std::chrono::steady_clock::now();

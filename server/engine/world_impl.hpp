@@ -130,6 +130,8 @@ struct World::Impl {
 
     std::size_t clone_count = 0;
     std::size_t spare_count = 0;
+    std::uint64_t clones_made = 0;      ///< since the world was made (FrameStats::clones_made)
+    std::uint64_t clones_released = 0;  ///< (FrameStats::clones_released)
     std::uint64_t frame = 0;
     FrameStats stats;
 };

@@ -35,6 +35,7 @@ struct Totals {
     double sectorize = 0, clone = 0, step = 0, total = 0;
     std::size_t stepped_sectors = 0, sector_changes = 0, contacts_begun = 0, max_clones = 0, max_sectors = 0;
     std::size_t max_border_bodies = 0;
+    std::size_t clones_made = 0, clones_released = 0;
 };
 
 void print_summary(const lpss::World& world, const std::string& scene, std::uint64_t frames, const Totals& t,
@@ -57,8 +58,10 @@ void print_summary(const lpss::World& world, const std::string& scene, std::uint
     fmt::print("sectors      {} at the end, {} at most; {:.1f} stepped per frame on average\n", last.sectors,
                t.max_sectors,
                frames ? static_cast<double>(t.stepped_sectors) / static_cast<double>(frames) : 0.0);
-    fmt::print("borders      {} sector changes, up to {} border bodies and {} clones at once\n",
-               t.sector_changes, t.max_border_bodies, t.max_clones);
+    fmt::print(
+        "borders      {} sector changes, up to {} border bodies and {} clones at once; {} clones made, "
+        "{} let go\n",
+        t.sector_changes, t.max_border_bodies, t.max_clones, t.clones_made, t.clones_released);
     fmt::print("contacts     {} began\n", t.contacts_begun);
     fmt::print("time/frame   {:.4f} ms (sectorize {:.4f}, clone {:.4f}, step {:.4f})\n", t.total * per,
                t.sectorize * per, t.clone * per, t.step * per);
@@ -177,6 +180,8 @@ int main(int argc, char** argv) {
         totals.stepped_sectors += s.stepped_sectors;
         totals.sector_changes += s.sector_changes;
         totals.max_clones = std::max(totals.max_clones, s.clones);
+        totals.clones_made += s.clones_made;
+        totals.clones_released += s.clones_released;
         totals.max_sectors = std::max(totals.max_sectors, s.sectors);
         totals.max_border_bodies = std::max(totals.max_border_bodies, s.border_bodies);
         for (const lpss::ContactEvent& e : world.contact_events()) {

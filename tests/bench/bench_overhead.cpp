@@ -10,7 +10,8 @@ namespace {}  // namespace
 
 void run_overhead(const Context& context) {
     Table table({"config", "sector_size", "bodies", "frames", "sectors", "border_bodies", "clones",
-                 "ms_per_frame", "sectorize_ms", "clone_ms", "step_ms", "overhead_fraction"});
+                 "ms_per_frame", "sectorize_ms", "clone_ms", "step_ms", "overhead_fraction", "refreshes",
+                 "candidates", "clones_made", "clones_released"});
     std::vector<int> counts =
         context.quick ? std::vector<int>{1000, 10000} : std::vector<int>{1000, 3000, 10000, 30000, 100000};
     if (!context.sizes.empty()) counts.assign(context.sizes.begin(), context.sizes.end());
@@ -36,6 +37,7 @@ void run_overhead(const Context& context) {
                 for (; frame + 1 < window.first; ++frame)
                     world.step();
                 double sectorize = 0, clone = 0, step = 0, frames = 0, border = 0, clones = 0, sectors = 0;
+                double refreshes = 0, candidates = 0, made = 0, released = 0;
                 const int count = window.last - window.first + 1;
                 const double ms = ms_over_frames(fmt::format("overhead/{}/{}/{}", L, n, window.name), world,
                                                  count, [&](const FrameStats& s) {
@@ -45,6 +47,10 @@ void run_overhead(const Context& context) {
                                                      border += static_cast<double>(s.border_bodies);
                                                      clones += static_cast<double>(s.clones);
                                                      sectors += static_cast<double>(s.sectors);
+                                                     refreshes += static_cast<double>(s.fat_box_refreshes);
+                                                     candidates += static_cast<double>(s.border_candidates);
+                                                     made += static_cast<double>(s.clones_made);
+                                                     released += static_cast<double>(s.clones_released);
                                                      frames += 1;
                                                  });
                 frame += count;
@@ -52,7 +58,9 @@ void run_overhead(const Context& context) {
                 rows[w].push_back({config.name, num(L), std::to_string(n), window.name,
                                    num(sectors / frames, 5), num(border / frames, 5), num(clones / frames, 5),
                                    num(ms, 4), num(1e3 * sectorize / frames, 4), num(1e3 * clone / frames, 4),
-                                   num(1e3 * step / frames, 4), num((sectorize + clone) / total, 3)});
+                                   num(1e3 * step / frames, 4), num((sectorize + clone) / total, 3),
+                                   num(refreshes / frames, 5), num(candidates / frames, 5),
+                                   num(made / frames, 5), num(released / frames, 5)});
             }
         }
         for (const auto& window_rows : rows)
@@ -66,7 +74,10 @@ void run_overhead(const Context& context) {
         "world: the bodies have been colliding for most of a second). ms_per_frame: Google Benchmark, one "
         "iteration of the window; the stage split is the engine's own clock over the same frames. "
         "overhead_fraction = (sectorize + clone) / (sectorize + clone + step); target: under 0.10 at L = 8, "
-        "0.05 at L = 32.\n\n" +
+        "0.05 at L = 32. What the cloning stage did, per frame (FrameStats): refreshes, bodies given a new "
+        "fat "
+        "box; candidates, what their queries found; clones_made and clones_released, clones put into sectors "
+        "and let go.\n\n" +
         table.markdown();
     std::string plot =
         R"(set multiplot layout 1,3 title 'Cost of sectorization and cloning (solid: frames 61-120, dashed: frames 6-35)'

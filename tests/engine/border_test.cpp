@@ -137,6 +137,44 @@ TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
     EXPECT_EQ(world.last_frame_stats().border_bodies, 1u) << "body 2 still reaches across, alone";
 }
 
+TEST(Clones, FrameStatsCountTheClonesMadeAndLetGoAndTheFatBoxesRefreshed) {
+    // The scene of the test above: two spheres within reach across the border x = L/2.
+    Scene scene;
+    scene.settings.sector_size = kL;
+    for (int n = 0; n < 2; ++n) {
+        BodyDesc b;
+        b.id = static_cast<BodyId>(n + 1);
+        b.shape = Sphere{0.5};
+        b.mass = 1;
+        b.position = Eigen::Vector3d(0.5 * kL + (n ? 0.3 : -0.3), n * 1.05, 0);
+        scene.bodies.push_back(b);
+    }
+    World world = make_world(scene);
+    world.step();
+    EXPECT_EQ(world.last_frame_stats().fat_box_refreshes, 2u) << "each body's first fat box";
+    EXPECT_EQ(world.last_frame_stats().clones_made, 2u) << "each body into the other's sector";
+    EXPECT_EQ(world.last_frame_stats().clones_released, 0u);
+    // Resting where they are: nothing made, let go or refreshed.
+    world.step();
+    EXPECT_EQ(world.last_frame_stats().fat_box_refreshes, 0u);
+    EXPECT_EQ(world.last_frame_stats().clones_made, 0u);
+    // Body 1 leaves: its fat box is refreshed once it has gone through it, and both clones go a few frames
+    // after their reaches part (kCloneLinger), each once.
+    ASSERT_TRUE(world.set_velocity(1, {-20, 0, 0}, {0, 0, 0}).ok());
+    std::size_t refreshed = 0, made = 0, released = 0;
+    for (int f = 0; f < 45; ++f) {
+        world.step();
+        refreshed += world.last_frame_stats().fat_box_refreshes;
+        made += world.last_frame_stats().clones_made;
+        released += world.last_frame_stats().clones_released;
+    }
+    EXPECT_GE(refreshed, 1u);
+    EXPECT_LE(refreshed, 3u) << "a fat box stretched ahead lasts most of the way";
+    EXPECT_EQ(made, 0u);
+    EXPECT_EQ(released, 2u);
+    EXPECT_EQ(world.last_frame_stats().clones, 0u);
+}
+
 TEST(Clones, PoolsStayBoundedOver10000FramesOfOscillation) {
     // Two spheres bounce between static walls on either side of the border x = L/2, on parallel tracks
     // 1.05 apart, at different speeds: they cross the border over and over, cloned into each other's

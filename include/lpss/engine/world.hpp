@@ -96,6 +96,13 @@ struct FrameStats {
     /// Bodies found by the border index's queries for the bodies that left their fat reach boxes this
     /// frame, before those boxes are compared: the work of finding new pairs to clone.
     std::size_t border_candidates = 0;
+    /// Bodies that left their fat reach box (or changed sector) this frame and were given a new one: the
+    /// bodies whose queries border_candidates counts.
+    std::size_t fat_box_refreshes = 0;
+    /// Clones the cloning stage put into sectors this frame (new ones, or from their body's pool), and let
+    /// go after they went unneeded for a few frames: what adding to and taking out of Bullet worlds costs.
+    std::size_t clones_made = 0;
+    std::size_t clones_released = 0;
     std::size_t clones = 0;        ///< clones in sectors, planes' per-sector instances excluded
     std::size_t spare_clones = 0;  ///< clones kept in per-body pools for reuse
     std::size_t touching_pairs = 0;
