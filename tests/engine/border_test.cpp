@@ -110,8 +110,8 @@ TEST(Borders, ContactEventsCarryTheOriginalIds) {
     EXPECT_EQ(ended, 1);
 }
 
-TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
-    // Two spheres side by side across the border x = L/2, 1.5 apart in y: within reach, not touching.
+// Two spheres side by side across the border x = L/2, 1.05 apart in y: within reach, not touching.
+Scene two_spheres_within_reach_across_a_border() {
     Scene scene;
     scene.settings.sector_size = kL;
     for (int n = 0; n < 2; ++n) {
@@ -122,7 +122,11 @@ TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
         b.position = Eigen::Vector3d(0.5 * kL + (n ? 0.3 : -0.3), n * 1.05, 0);
         scene.bodies.push_back(b);
     }
-    World world = make_world(scene);
+    return scene;
+}
+
+TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
+    World world = make_world(two_spheres_within_reach_across_a_border());
     world.step();
     EXPECT_EQ(world.clone_counts(1)->active, 1u);
     EXPECT_EQ(world.clone_counts(2)->active, 1u);
@@ -138,18 +142,7 @@ TEST(Clones, ABodyLeavingTheBorderBandLosesItsClones) {
 }
 
 TEST(Clones, FrameStatsCountTheClonesMadeAndLetGoAndTheFatBoxesRefreshed) {
-    // The scene of the test above: two spheres within reach across the border x = L/2.
-    Scene scene;
-    scene.settings.sector_size = kL;
-    for (int n = 0; n < 2; ++n) {
-        BodyDesc b;
-        b.id = static_cast<BodyId>(n + 1);
-        b.shape = Sphere{0.5};
-        b.mass = 1;
-        b.position = Eigen::Vector3d(0.5 * kL + (n ? 0.3 : -0.3), n * 1.05, 0);
-        scene.bodies.push_back(b);
-    }
-    World world = make_world(scene);
+    World world = make_world(two_spheres_within_reach_across_a_border());
     world.step();
     EXPECT_EQ(world.last_frame_stats().fat_box_refreshes, 2u) << "each body's first fat box";
     EXPECT_EQ(world.last_frame_stats().clones_made, 2u) << "each body into the other's sector";
