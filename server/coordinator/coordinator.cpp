@@ -563,9 +563,20 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         inbox.wait(std::chrono::milliseconds(20));
     }
     // A standby, if one was asked for: from frame 1 on, every frame waits until it holds the frame's start.
+    // Not for ever: a standby killed before its hello reached this coordinator is never heard (seen: the
+    // world never started, lpss-cluster having said its standby had ended).
+    const auto standby_wait_start = Clock::now();
     for (auto said = Clock::now(); options.await_standby && standby == 0;) {
         if (stop.load()) return Error{"stopped"};
         if (Status st = check_not_replaced(); !st) return st;
+        if (Clock::now() - standby_wait_start > options.standby_wait) {
+            spdlog::warn(
+                "coordinator {}: no standby coordinator said it stands by within {:.0f} s: the world starts "
+                "without one (no takeover should this coordinator end; a standby that comes later is too "
+                "late)",
+                options.id, std::chrono::duration<double>(options.standby_wait).count());
+            break;
+        }
         if (Clock::now() - said > std::chrono::seconds(5)) {
             said = Clock::now();
             spdlog::info("coordinator: frame 1 waits for a standby coordinator");

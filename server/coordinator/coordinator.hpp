@@ -41,6 +41,9 @@ struct CoordinatorOptions {
     /// Frame 1 waits until a standby coordinator follows the world; from then on, each frame waits until
     /// the standby holds its start.
     bool await_standby = false;
+    /// How long frame 1 waits for the standby's hello (await_standby): a standby gone before its hello
+    /// reached this coordinator is never heard, and the world then starts without one.
+    std::chrono::milliseconds standby_wait{20000};
 };
 
 class Coordinator {

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
     CLI::App app{"lpss-coordinator: assigns sectors, starts frames, arbitrates handoffs and commands"};
     lpss::coordinator::CoordinatorOptions o;
     std::string log_level = "info";
-    int worker_wait_s = 30, worker_timeout_ms = 5000;
+    int worker_wait_s = 30, worker_timeout_ms = 5000, standby_wait_s = 20;
     app.add_option("scene", o.scene_path, "scene file (Protobuf text format)")->required();
     app.add_option("--workers", o.workers, "number of workers (ids 1..N)")->check(CLI::Range(1u, 4096u));
     app.add_option("--frames", o.frames, "stop after this many frames (0: until stopped)");
@@ -42,6 +42,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 1000u));
     app.add_flag("--await-standby", o.await_standby,
                  "frame 1 waits for a standby coordinator, and every frame until it holds the frame's start");
+    app.add_option(
+           "--standby-wait-s", standby_wait_s,
+           "with --await-standby: how long frame 1 waits for the standby to say it stands by before the "
+           "world starts without one")
+        ->check(CLI::Range(0, 3600));
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
     CLI11_PARSE(app, argc, argv);
     if (o.standby && app.count("--id") == 0) o.id = 2;
@@ -51,6 +56,7 @@ int main(int argc, char** argv) {
     }
     o.worker_wait = std::chrono::seconds(worker_wait_s);
     o.worker_timeout = std::chrono::milliseconds(worker_timeout_ms);
+    o.standby_wait = std::chrono::seconds(standby_wait_s);
     lpss::runtime::keep_large_buffers_apart();
     const auto& stop = lpss::runtime::install_stop_signal();
     auto coordinator = lpss::coordinator::Coordinator::create(o);
