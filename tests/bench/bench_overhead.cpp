@@ -6,7 +6,6 @@
 #include "subcommands.hpp"
 
 namespace lpss::bench {
-namespace {}  // namespace
 
 void run_overhead(const Context& context) {
     Table table({"config", "sector_size", "bodies", "frames", "sectors", "border_bodies", "clones",
@@ -75,9 +74,8 @@ void run_overhead(const Context& context) {
         "iteration of the window; the stage split is the engine's own clock over the same frames. "
         "overhead_fraction = (sectorize + clone) / (sectorize + clone + step); target: under 0.10 at L = 8, "
         "0.05 at L = 32. What the cloning stage did, per frame (FrameStats): refreshes, bodies given a new "
-        "fat "
-        "box; candidates, what their queries found; clones_made and clones_released, clones put into sectors "
-        "and let go.\n\n" +
+        "fat box; candidates, what their queries found; clones_made and clones_released, clones put into "
+        "sectors and let go.\n\n" +
         table.markdown();
     std::string plot =
         R"(set multiplot layout 1,3 title 'Cost of sectorization and cloning (solid: frames 61-120, dashed: frames 6-35)'
