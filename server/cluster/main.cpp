@@ -470,8 +470,12 @@ int main(int argc, char** argv) {
     if (cleaned > 0 && !quiet)
         fmt::print("lpss-cluster: removed {} abandoned file(s) from /dev/shm\n", cleaned);
     print(true);
-    fmt::print("first frame {:.3f} s after start\n", first_frame_seconds);
-    fmt::print("memory at frame {}: {}\n", memory_frame, memory_at_frame);
+    if (memory_seen) {
+        fmt::print("first frame {:.3f} s after start\n", first_frame_seconds);
+        fmt::print("memory at frame {}: {}\n", memory_frame, memory_at_frame);
+    } else {
+        fmt::print("no frame ran\n");  // (not "first frame 0.000 s", nor an empty memory line)
+    }
     if (exit_code != 0) {
         // The coordinator's last words say why (a refused scene, say).
         std::ifstream log(log_dir + (taken_over ? "/standby.log" : "/coordinator.log"));

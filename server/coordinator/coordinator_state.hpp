@@ -107,6 +107,9 @@ struct Coordinator::State {
     /// heard alive is heard to lapse: the standby says once that it would notice the coordinator's end.
     std::set<dds::ParticipantPrefix> heard_alive_before_frame_1;
     bool said_it_follows = false;
+    /// As a standby: said that the coordinator's lease lapsed while it sent the first state (and not yet
+    /// that it came back).
+    bool said_lapse_in_first_state = false;
     /// As a standby: some of the world's first state came (a sample of it, or the mark that lists it).
     bool first_state_begun = false;
     bool standby_lost = false;  ///< the standby's acknowledgements' lapsed

@@ -2061,6 +2061,67 @@ TEST(Cluster, ACoordinatorPausedPastItsLeaseWhileItReadsTheSceneYieldsToItsStand
     coordinator_gone_while_it_reads_the_scene(false, 180);
 }
 
+TEST(Cluster, ACoordinatorPausedPastItsLeaseAfterItSentTheFirstStateKeepsItsStandby) {
+    // The coordinator has sent the world's first state and waits, before frame 1, for a client; it is paused
+    // past its lease (as a loaded machine starves it: seen under AddressSanitizer). The standby waits for it
+    // to come back instead of stopping (it could take over from nothing: no frame start came), and so still
+    // takes over when the coordinator is killed later. Before, it stopped at the lapse and the world ran
+    // without a standby: the kill ended it.
+    const Scene scene = crossing_scene_with_far_balls();
+    const int domain = 184;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(scene, "coordinator_paused_after_first_state");
+    constexpr std::uint64_t kFrames = 300;
+    const auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1);
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
+    ASSERT_TRUE(cluster.process);
+    const std::string coordinator = testing::primary_coordinator_process(domain);
+    const std::string coordinator_log = cluster.log_dir + "/coordinator.log";
+    const std::string standby_log = cluster.log_dir + "/standby.log";
+    // Its first state sent, it says every 5 s that frame 1 waits for the client.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (read_file(coordinator_log).find("frame 1 waits for 1 client") == std::string::npos &&
+           std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_NE(read_file(coordinator_log).find("frame 1 waits for 1 client"), std::string::npos)
+        << "logs: " << cluster.log_dir;
+    // Past its lease (0.3 s, confirmed 0.15 s later), then on again.
+    ASSERT_EQ(std::system(("pkill -STOP -f " + coordinator).c_str()), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ASSERT_EQ(std::system(("pkill -CONT -f " + coordinator).c_str()), 0);
+    const auto back_by = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (read_file(standby_log).find("follows it again") == std::string::npos &&
+           std::chrono::steady_clock::now() < back_by)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const std::string waited = read_file(standby_log);
+    EXPECT_NE(waited.find("lease lapsed while it sent the world's first state"), std::string::npos)
+        << "the pause was past the lease: " << waited;
+    EXPECT_NE(waited.find("follows it again"), std::string::npos) << waited;
+    // Frame 1 starts with the client; the coordinator is killed in the run.
+    auto client = connect(domain, "watcher");
+    ASSERT_TRUE(client);
+    std::map<std::uint64_t, WorldFrame> frames;
+    collect_into(*client, frames, 100, std::chrono::seconds(60));
+    ASSERT_FALSE(frames.empty()) << "logs: " << cluster.log_dir;
+    const std::uint64_t killed_at = frames.rbegin()->first;
+    ASSERT_LT(killed_at + 100, kFrames) << "time left to run after the takeover";
+    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    collect_into(*client, frames, kFrames, std::chrono::seconds(60));
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    ASSERT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
+    double worst = 0.0;
+    ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
+    EXPECT_LE(worst, 1e-3);
+    const std::string text = read_file(standby_log);
+    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+    std::printf(
+        "the coordinator paused 1.5 s after its first state, killed after frame %llu: %zu frames seen, "
+        "largest difference from lpss-sim %.3g\n",
+        static_cast<unsigned long long>(killed_at), frames.size(), worst);
+}
+
 TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     // Worker 2 is killed and started again under its id, and joins; then the coordinator is killed. The
     // standby had noted worker 2's death too, and the deaths it notes while standing by are the
