@@ -2,7 +2,7 @@
 # The main job: installs what is missing, builds, and runs the example scene on a localhost cluster (a
 # coordinator and two workers, in real time for 10 s), printing a live summary. lpss-view shows it in a
 # browser meanwhile, on this machine only: the address is printed first.
-# usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options]
+# usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options; --workers and --frames replace 2 and 600]
 #        LPSS_VIEW_PORT=P picks the viewer's port (default 8090); LPSS_VIEW=0 runs without it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -25,4 +25,9 @@ if [[ "${LPSS_VIEW:-1}" != 0 ]]; then
         echo "lpss: lpss-view did not start (see $view_log); the cluster runs without it" >&2
     fi
 fi
-"$root/build/server/lpss-cluster" "$scene" --workers 2 --frames 600 --realtime "$@"
+# The example's settings, unless given among the extra options (lpss-cluster refuses an option twice).
+defaults=()
+[[ " $* " == *" --workers "* ]] || defaults+=(--workers 2)
+[[ " $* " == *" --frames "* ]] || defaults+=(--frames 600)
+[[ " $* " == *" --realtime "* ]] || defaults+=(--realtime)
+"$root/build/server/lpss-cluster" "$scene" "${defaults[@]}" "$@"

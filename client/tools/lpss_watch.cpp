@@ -55,6 +55,9 @@ int main(int argc, char** argv) {
     app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
     app.add_option("--profile", options.profile,
                    "Fast DDS XML profile (default: built-in, this machine only)");
+    app.add_option(
+        "--name", options.name,
+        "this client's name, unique per domain (default lpss-watch): give a second watcher another");
     app.add_option("--security", options.security,
                    "DDS Security identity folder (deploy/security/identities.sh; default: none)");
     app.add_option("--region", region, "follow only sectors i_lo,i_hi,j_lo,j_hi,k_lo,k_hi");
