@@ -94,6 +94,26 @@ int main(int argc, char** argv) {
     app.add_flag("--no-standby", no_standby,
                  "no standby coordinator (by default one follows the world and takes over if the coordinator "
                  "dies)");
+    // Passed to the coordinators or the workers as given (their own defaults otherwise).
+    int worker_wait_s = 0, standby_wait_s = 0, coordinator_wait_s = 0, worker_timeout_ms = 0,
+        border_wait_ms = 0;
+    CLI::Option* worker_wait = app.add_option(
+        "--worker-wait-s", worker_wait_s,
+        "coordinator: how long to wait for the workers to appear, and for one to join once every worker is "
+        "gone (default 30)");
+    CLI::Option* worker_timeout =
+        app.add_option("--worker-timeout-ms", worker_timeout_ms,
+                       "coordinator: silence after which a worker is taken as gone (default 5000)");
+    CLI::Option* standby_wait =
+        app.add_option("--standby-wait-s", standby_wait_s,
+                       "coordinator: how long frame 1 waits for the standby to say it stands by (default 20)")
+            ->check(CLI::Range(0, 3600));
+    CLI::Option* border_wait =
+        app.add_option("--border-wait-ms", border_wait_ms,
+                       "workers: longest wait for other workers' data before a frame (default 2000)");
+    CLI::Option* coordinator_wait =
+        app.add_option("--coordinator-wait-s", coordinator_wait_s,
+                       "workers: how long to wait for a coordinator (default 30)");
     CLI11_PARSE(app, argc, argv);
 
     // The coordinator reads and checks the scene (reading it here too would double the start of a large
@@ -155,6 +175,10 @@ int main(int argc, char** argv) {
     auto worker_args = [&](std::uint32_t w) {
         std::vector<std::string> args = common;
         args.insert(args.end(), {"--id", std::to_string(w), "--threads", std::to_string(threads)});
+        if (border_wait->count())
+            args.insert(args.end(), {"--border-wait-ms", std::to_string(border_wait_ms)});
+        if (coordinator_wait->count())
+            args.insert(args.end(), {"--coordinator-wait-s", std::to_string(coordinator_wait_s)});
         if (!security.empty()) args.insert(args.end(), {"--security", identity("worker")});
         return args;
     };
@@ -174,6 +198,10 @@ int main(int argc, char** argv) {
          std::to_string(block_size), "--rebalance-every", std::to_string(rebalance_every), "--await-clients",
          std::to_string(await_clients), "--command-rate", fmt::format("{}", command_rate)});
     if (realtime) args.push_back("--realtime");
+    if (worker_wait->count()) args.insert(args.end(), {"--worker-wait-s", std::to_string(worker_wait_s)});
+    if (worker_timeout->count())
+        args.insert(args.end(), {"--worker-timeout-ms", std::to_string(worker_timeout_ms)});
+    if (standby_wait->count()) args.insert(args.end(), {"--standby-wait-s", std::to_string(standby_wait_s)});
     if (!security.empty()) args.insert(args.end(), {"--security", identity("coordinator")});
     // The standby first, so that it follows the world from its first state; the coordinator waits for it.
     std::optional<ChildProcess> standby;

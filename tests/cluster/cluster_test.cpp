@@ -3236,6 +3236,36 @@ TEST(Cluster, TheMultiHostProfileRunsACluster) {
     EXPECT_EQ(std::system(command.c_str()), 0) << "see " << path << ".out";
 }
 
+TEST(Cluster, TheClusterPassesItsTimeoutsToItsCoordinatorsAndWorkers) {
+    // lpss-cluster takes the coordinators' and the workers' waits and passes each to the processes it
+    // concerns (the docs describe them beside lpss-cluster, which could not set them before).
+    const int domain = 185;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "timeouts");
+    auto cluster = start_cluster(path, domain, 2, 100000,
+                                 {"--worker-wait-s", "9", "--worker-timeout-ms", "1234", "--standby-wait-s",
+                                  "3", "--border-wait-ms", "321", "--coordinator-wait-s", "7"});
+    ASSERT_TRUE(cluster.process);
+    std::map<int, std::string> processes;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while ((processes = testing::processes_of(domain)).size() < 4 && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_EQ(processes.size(), 4u) << "a coordinator, its standby and 2 workers";
+    for (const auto& [pid, name] : processes) {
+        const std::string line = read_file("/proc/" + std::to_string(pid) + "/cmdline");
+        auto has = [&](const std::string& flag, const std::string& value) {
+            return line.find(flag + '\0' + value + '\0') != std::string::npos;
+        };
+        const bool coordinator = name == "coordinator" || name == "standby";
+        EXPECT_EQ(has("--worker-wait-s", "9"), coordinator) << name;
+        EXPECT_EQ(has("--worker-timeout-ms", "1234"), coordinator) << name;
+        EXPECT_EQ(has("--standby-wait-s", "3"), coordinator) << name;
+        EXPECT_EQ(has("--border-wait-ms", "321"), !coordinator) << name;
+        EXPECT_EQ(has("--coordinator-wait-s", "7"), !coordinator) << name;
+    }
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+}
+
 TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {
     const testing::DomainCleanup cleanup(126);
     auto run = [](const std::string& command) {
