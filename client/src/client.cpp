@@ -37,11 +37,13 @@ struct Client::State {
     std::unique_ptr<dds::Reader<wire::Assignment>> assignment_in;
     std::unique_ptr<dds::Reader<wire::BodyDescription>> planes_in;
     std::unique_ptr<dds::Reader<wire::CommandResult>> results_in;
+    std::unique_ptr<dds::Reader<wire::ClusterStatus>> status_in;
     std::unique_ptr<dds::Writer<wire::Command>> commands_out;
     std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;
 
     std::optional<SectorGrid> grid;
-    std::uint32_t term = 0;  ///< the highest coordinator term seen
+    std::uint32_t term = 0;                      ///< the highest coordinator term seen
+    std::optional<std::uint64_t> stopped_after;  ///< the world's last frame, once its coordinator said so
     std::optional<WorldSettings> settings;
     /// Assignments by the frame they take effect from: which workers end each frame, and own which sectors.
     std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
@@ -195,6 +197,7 @@ Client::~Client() {
     state_->assignment_in.reset();
     state_->planes_in.reset();
     state_->results_in.reset();
+    state_->status_in.reset();
     state_->commands_out.reset();
     state_->requests_out.reset();
 }
@@ -229,6 +232,8 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     state->results_in = std::make_unique<Reader<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), reader_qos(kResultDelivery),
         &state->inbox);
+    state->status_in = std::make_unique<Reader<wire::ClusterStatus>>(
+        p, p.topic<wire::ClusterStatusPubSubType>(kStatus), reader_qos(kStateDelivery), &state->inbox);
     state->commands_out = std::make_unique<Writer<wire::Command>>(
         p, p.topic<wire::CommandPubSubType>(kCommands), writer_qos(kCommandDelivery));
     state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
@@ -237,7 +242,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     // and the client goes on without one (its commands are refused, with that reason).
     if (!state->commands_out->ok() && !options.security.empty()) state->commands_out.reset();
     if (!state->frames_in->ok() || !state->marks_in->ok() || !state->assignment_in->ok() ||
-        !state->planes_in->ok() || !state->results_in->ok() ||
+        !state->planes_in->ok() || !state->results_in->ok() || !state->status_in->ok() ||
         (state->commands_out && !state->commands_out->ok()) || !state->requests_out->ok()) {
         return Error{"cannot create the client's DDS readers and writers" +
                      std::string(options.security.empty() ? ""
@@ -248,6 +253,14 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
 }
 
 void Client::State::take() {
+    // The coordinator that runs the world says "stopped" once its last frame has ended (its --frames ran
+    // out, or it was stopped); a coordinator killed says nothing, and a standby that took over says it in
+    // its turn. A coordinator loading a world is another world beginning on the domain.
+    status_in->take_all([&](const wire::ClusterStatus& st, const dds::fdds::SampleInfo& info) {
+        if (!info.valid_data) return;
+        if (st.phase() == "stopped") stopped_after = st.frame();
+        if (st.phase() == "loading" || st.phase() == "sending") stopped_after.reset();
+    });
     assignment_in->take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
         // A coordinator replaced by its standby (a lower term) may still be about: its word no longer counts.
         if (!info.valid_data || a.term() < term) return;
@@ -924,6 +937,8 @@ std::optional<WorldSettings> Client::settings() const { return state_->settings;
 const std::optional<Region>& Client::region() const { return state_->options.region; }
 
 ClientStats Client::stats() const { return state_->stats; }
+
+std::optional<std::uint64_t> Client::stopped_after() const { return state_->stopped_after; }
 
 Expected<Region> parse_region(const std::string& text) {
     const std::string usage =

@@ -99,18 +99,31 @@ int main(int argc, char** argv) {
     Counts world;
     auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(2);
     auto last_data = std::chrono::steady_clock::now();
+    int exit_code = 0;
+    std::uint64_t newest = 0;  ///< the newest frame shown
     // Ctrl-C or SIGTERM end the watch as the last frame does: the memory line still comes.
     const std::atomic<bool>& stop = lpss::runtime::install_stop_signal();
     while ((frames == 0 || seen < frames) && !stop.load()) {
         std::vector<lpss::WorldFrame> got = (*client)->poll(std::chrono::milliseconds(100));
         if (!got.empty()) last_data = std::chrono::steady_clock::now();
-        if (std::chrono::steady_clock::now() - last_data > std::chrono::seconds(wait_s)) {
+        // A world that stopped ends the watch with its last frame (or, should that never come whole, a
+        // second after the last one that did); one that falls silent without a word is gone.
+        const std::optional<std::uint64_t> last = (*client)->stopped_after();
+        if (last && got.empty() &&
+            (newest >= *last || std::chrono::steady_clock::now() - last_data > std::chrono::seconds(1))) {
+            std::fprintf(stderr, "lpss-watch: the world stopped after frame %llu\n",
+                         static_cast<unsigned long long>(*last));
+            break;
+        }
+        if (!last && std::chrono::steady_clock::now() - last_data > std::chrono::seconds(wait_s)) {
             std::fprintf(stderr, "lpss-watch: no frame for %d s: the cluster is gone\n", wait_s);
+            exit_code = 3;
             break;
         }
         for (const lpss::WorldFrame& f : got) {
             if (frames != 0 && seen >= frames) break;
             ++seen;
+            newest = f.frame;
             if (csv) {
                 for (const lpss::BodyView& b : f.bodies) {
                     lpss::BodySnapshot s{
@@ -142,5 +155,5 @@ int main(int argc, char** argv) {
                      static_cast<double>(memory->resident_bytes) / 1048576.0,
                      static_cast<double>(memory->peak_bytes) / 1048576.0);
     }
-    return 0;
+    return exit_code;
 }

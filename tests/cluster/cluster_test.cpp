@@ -3236,6 +3236,52 @@ TEST(Cluster, TheMultiHostProfileRunsACluster) {
     EXPECT_EQ(std::system(command.c_str()), 0) << "see " << path << ".out";
 }
 
+TEST(Cluster, AWatcherEndsWithTheWorldAndSaysSoWhenTheClusterVanishes) {
+    // A world that ends (its frames ran out) says so (its coordinator's status, "stopped"), and lpss-watch
+    // ends with its last frame (exit 0) rather than after --wait-s of silence; a cluster killed says
+    // nothing, and lpss-watch takes its silence for a cluster gone (exit 3), as lpss-dis does.
+    const int domain = 186;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "watched_to_the_end");
+    const std::string watch_out = path + ".watch.out";
+    auto watch = runtime::ChildProcess::start(
+        LPSS_WATCH, {"--domain", std::to_string(domain), "--wait-s", "30"}, watch_out);
+    ASSERT_TRUE(watch);
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    auto cluster = start_cluster(path, domain, 2, 120, {"--await-clients", "1"});  // every frame for it
+    ASSERT_TRUE(cluster.process);
+    ASSERT_TRUE(cluster.process->wait(std::chrono::seconds(60))) << "logs: " << cluster.log_dir;
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    // Well within its wait of 30 s.
+    ASSERT_TRUE(watch->wait(std::chrono::seconds(10))) << read_file(watch_out);
+    EXPECT_EQ(watch->exit_code().value_or(-1), 0) << read_file(watch_out);
+    EXPECT_NE(read_file(watch_out).find("the world stopped after frame 120"), std::string::npos)
+        << read_file(watch_out);
+    EXPECT_NE(read_file(watch_out).find("lpss-watch: 120 frames"), std::string::npos) << read_file(watch_out);
+
+    // The same, the cluster killed whole in its run.
+    const std::string gone_out = path + ".gone.out";
+    auto gone = runtime::ChildProcess::start(LPSS_WATCH,
+                                             {"--domain", std::to_string(domain), "--wait-s", "3"}, gone_out);
+    ASSERT_TRUE(gone);
+    auto killed = start_cluster(path, domain, 2, 100000);
+    ASSERT_TRUE(killed.process);
+    const auto running_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (read_file(gone_out).find("frame ") == std::string::npos &&
+           std::chrono::steady_clock::now() < running_by)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_NE(read_file(gone_out).find("frame "), std::string::npos)
+        << "frames were shown: " << read_file(gone_out);
+    ::kill(killed.process->pid(), SIGKILL);
+    for (const auto& [pid, name] : testing::processes_of(domain))
+        ::kill(pid, SIGKILL);
+    EXPECT_TRUE(killed.process->wait(std::chrono::seconds(5)));
+    ASSERT_TRUE(gone->wait(std::chrono::seconds(20))) << read_file(gone_out);
+    EXPECT_EQ(gone->exit_code().value_or(-1), 3) << read_file(gone_out);
+    EXPECT_NE(read_file(gone_out).find("no frame for 3 s: the cluster is gone"), std::string::npos)
+        << read_file(gone_out);
+}
+
 TEST(Cluster, TheClusterPassesItsTimeoutsToItsCoordinatorsAndWorkers) {
     // lpss-cluster takes the coordinators' and the workers' waits and passes each to the processes it
     // concerns (the docs describe them beside lpss-cluster, which could not set them before).

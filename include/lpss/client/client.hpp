@@ -155,6 +155,10 @@ public:
     const std::optional<Region>& region() const;
     /// What following the world has cost so far (as of the last poll).
     ClientStats stats() const;
+    /// The world's last frame, once the coordinator running it has said it stopped there (its frames ran
+    /// out, or it was stopped), as of the last poll: no frame after it comes. None while it runs, and none
+    /// for a cluster that vanished (killed, cut off): that one only falls silent.
+    std::optional<std::uint64_t> stopped_after() const;
 
     /// Commands: each returns a request number; outcome() tells what became of it (the newest 4,096
     /// outcomes are kept).
