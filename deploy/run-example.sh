@@ -25,9 +25,16 @@ if [[ "${LPSS_VIEW:-1}" != 0 ]]; then
         echo "lpss: lpss-view did not start (see $view_log); the cluster runs without it" >&2
     fi
 fi
-# The example's settings, unless given among the extra options (lpss-cluster refuses an option twice).
+# The example's settings, unless given among the extra options (lpss-cluster refuses an option twice),
+# as "--workers 3" or "--workers=3".
+given() {
+    local option=$1 arg
+    shift
+    for arg in "$@"; do [[ "$arg" == "$option" || "$arg" == "$option="* ]] && return 0; done
+    return 1
+}
 defaults=()
-[[ " $* " == *" --workers "* ]] || defaults+=(--workers 2)
-[[ " $* " == *" --frames "* ]] || defaults+=(--frames 600)
-[[ " $* " == *" --realtime "* ]] || defaults+=(--realtime)
+given --workers "$@" || defaults+=(--workers 2)
+given --frames "$@" || defaults+=(--frames 600)
+given --realtime "$@" || defaults+=(--realtime)
 "$root/build/server/lpss-cluster" "$scene" "${defaults[@]}" "$@"
