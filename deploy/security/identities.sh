@@ -164,11 +164,13 @@ make_identity() {
           <topics>
 $(topic_list "$(publishes "$role")")
           </topics>
+          <partitions><partition></partition><partition>lpss-from-*</partition></partitions>
         </publish>
         <subscribe>
           <topics>
 $(topic_list "$(subscribes "$role")")
           </topics>
+          <partitions><partition></partition><partition>lpss-from-*</partition></partitions>
         </subscribe>
       </allow_rule>
       <default>DENY</default>

@@ -88,6 +88,10 @@ public:
     fdds::DomainParticipant* raw() { return participant_; }
     fdds::Publisher* publisher() { return publisher_; }
     fdds::Subscriber* subscriber() { return subscriber_; }
+    /// For sector samples only (own_partition.hpp): the publisher of this participant's own, in the default
+    /// partition and its own; the subscriber of every other sector writer's, not of its own.
+    fdds::Publisher* sector_publisher() { return sector_publisher_; }
+    fdds::Subscriber* sector_subscriber() { return sector_subscriber_; }
     int domain() const { return domain_; }
     /// Its participant id (which ports it listens on); -1 if Fast DDS chose it.
     int participant_id() const { return participant_id_; }
@@ -101,6 +105,8 @@ private:
     fdds::DomainParticipant* participant_ = nullptr;
     fdds::Publisher* publisher_ = nullptr;
     fdds::Subscriber* subscriber_ = nullptr;
+    fdds::Publisher* sector_publisher_ = nullptr;
+    fdds::Subscriber* sector_subscriber_ = nullptr;
     std::map<std::string, fdds::Topic*> topics_;
     std::map<std::string, fdds::TopicDescription*> filtered_;
     std::unique_ptr<fdds::IContentFilterFactory> filter_factory_;
@@ -189,11 +195,13 @@ template <class T>
 class Writer : public fdds::DataWriterListener {
 public:
     Writer(Participant& participant, fdds::Topic* topic, const fdds::DataWriterQos& qos)
-        : participant_(participant),
-          writer_(participant.publisher()->create_datawriter(topic, qos, this,
-                                                             fdds::StatusMask::publication_matched())) {}
+        : Writer(participant.publisher(), topic, qos) {}
+    /// On a publisher of the participant's other than its default one (Participant::sector_publisher).
+    Writer(fdds::Publisher* publisher, fdds::Topic* topic, const fdds::DataWriterQos& qos)
+        : publisher_(publisher),
+          writer_(publisher->create_datawriter(topic, qos, this, fdds::StatusMask::publication_matched())) {}
     ~Writer() override {
-        if (writer_) participant_.publisher()->delete_datawriter(writer_);
+        if (writer_) publisher_->delete_datawriter(writer_);
     }
     Writer(const Writer&) = delete;
     Writer& operator=(const Writer&) = delete;
@@ -240,7 +248,7 @@ private:
     std::atomic<int> new_matches_{0};
     mutable std::mutex readers_mutex_;
     std::set<GuidBytes> matched_readers_;
-    Participant& participant_;
+    fdds::Publisher* publisher_;
     fdds::DataWriter* writer_;
 };
 
@@ -250,14 +258,18 @@ class Reader {
 public:
     Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
            Inbox* inbox)
-        : participant_(participant),
-          reader_(participant.subscriber()->create_datareader(
-              topic, qos, inbox,
-              inbox ? fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched()
-                                                         << fdds::StatusMask::liveliness_changed()
-                    : fdds::StatusMask::none())) {}
+        : Reader(participant.subscriber(), topic, qos, inbox) {}
+    /// On a subscriber of the participant's other than its default one (Participant::sector_subscriber).
+    Reader(fdds::Subscriber* subscriber, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
+           Inbox* inbox)
+        : subscriber_(subscriber),
+          reader_(subscriber->create_datareader(topic, qos, inbox,
+                                                inbox ? fdds::StatusMask::data_available()
+                                                            << fdds::StatusMask::subscription_matched()
+                                                            << fdds::StatusMask::liveliness_changed()
+                                                      : fdds::StatusMask::none())) {}
     ~Reader() {
-        if (reader_) participant_.subscriber()->delete_datareader(reader_);
+        if (reader_) subscriber_->delete_datareader(reader_);
     }
     Reader(const Reader&) = delete;
     Reader& operator=(const Reader&) = delete;
@@ -296,7 +308,7 @@ public:
     fdds::DataReader* raw() { return reader_; }
 
 private:
-    Participant& participant_;
+    fdds::Subscriber* subscriber_;
     fdds::DataReader* reader_;
 };
 

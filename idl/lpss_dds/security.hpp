@@ -20,4 +20,9 @@ inline constexpr const char* kIdentityFiles[] = {"identity_ca.pem",    "cert.pem
 /// the participant is created.
 Status apply_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const std::string& folder);
 
+/// What to add to "cannot create the readers and writers" of a worker or a coordinator under the identity in
+/// `folder` (nothing without one): its permissions must allow lpss's topics in the partitions its sector
+/// samples travel in (own_partition.hpp), which identities made before those partitions lack.
+std::string refused_endpoints_hint(const std::string& folder);
+
 }  // namespace lpss::dds

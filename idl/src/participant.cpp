@@ -1,5 +1,7 @@
 #include "lpss_dds/participant.hpp"
 
+#include "lpss_dds/own_partition.hpp"
+
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -177,10 +179,23 @@ Expected<std::unique_ptr<Participant>> Participant::create(int domain, const std
         prompt_peers_to_announce(domain, qos.value(), shared_memory, avoid, p->participant_id_);
     p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    ParticipantPrefix prefix{};
+    const auto& guid_prefix = p->participant_->guid().guidPrefix.value;
+    std::copy(std::begin(guid_prefix), std::end(guid_prefix), prefix.begin());
+    const std::string own = own_partition(prefix);
+    fdds::PublisherQos own_samples = fdds::PUBLISHER_QOS_DEFAULT;
+    own_samples.partition().push_back("");  // every reader in the default partition: clients, other vendors
+    own_samples.partition().push_back(own.c_str());
+    p->sector_publisher_ = p->participant_->create_publisher(own_samples);
+    fdds::SubscriberQos others_samples = fdds::SUBSCRIBER_QOS_DEFAULT;
+    for (const std::string& pattern : every_own_partition_but(own))
+        others_samples.partition().push_back(pattern.c_str());
+    p->sector_subscriber_ = p->participant_->create_subscriber(others_samples);
     p->filter_factory_ = std::make_unique<SectorFilterFactory>();
     p->participant_->register_content_filter_factory(kRegionFilterClass, p->filter_factory_.get());
     p->participant_->register_content_filter_factory(kRecipientFilterClass, p->filter_factory_.get());
-    if (p->publisher_ == nullptr || p->subscriber_ == nullptr)
+    if (p->publisher_ == nullptr || p->subscriber_ == nullptr || p->sector_publisher_ == nullptr ||
+        p->sector_subscriber_ == nullptr)
         return Error{"cannot create DDS publisher/subscriber"};
     return p;
 }
@@ -196,6 +211,8 @@ Participant::~Participant() {
         participant_->delete_topic(topic);
     if (publisher_) participant_->delete_publisher(publisher_);
     if (subscriber_) participant_->delete_subscriber(subscriber_);
+    if (sector_publisher_) participant_->delete_publisher(sector_publisher_);
+    if (sector_subscriber_) participant_->delete_subscriber(sector_subscriber_);
     participant_->unregister_content_filter_factory(kRegionFilterClass);
     participant_->unregister_content_filter_factory(kRecipientFilterClass);
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);

@@ -46,4 +46,11 @@ Status apply_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const s
     return {};
 }
 
+std::string refused_endpoints_hint(const std::string& folder) {
+    if (folder.empty()) return "";
+    return " (does the identity in " + folder +
+           " permit its role's topics in the partitions \"\" and \"lpss-from-*\"? identities made by "
+           "deploy/security/identities.sh before 2026-12-05 do not: make them again)";
+}
+
 }  // namespace lpss::dds

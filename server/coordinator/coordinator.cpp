@@ -17,6 +17,7 @@
 #include "lpss/common/border_reach.hpp"
 #include "lpss/common/scene.hpp"
 #include "lpss_dds/convert.hpp"
+#include "lpss_dds/security.hpp"
 #include "lpss_dds/topics.hpp"
 #include "realtime_pacer.hpp"
 
@@ -98,7 +99,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
             &state->inbox);
         if (!state->acks_out->ok() || !state->assignment_in->ok() || !state->planes_in->ok() ||
             !state->results_in->ok())
-            return Error{"cannot create the standby coordinator's DDS readers and writers"};
+            return Error{"cannot create the standby coordinator's DDS readers and writers" +
+                         dds::refused_endpoints_hint(options.security)};
     }
     state->assignment_out = std::make_unique<Writer<wire::Assignment>>(
         p, p.topic<wire::AssignmentPubSubType>(kSectorOwners), writer_qos(kAssignmentDelivery));
@@ -110,12 +112,13 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     // With the workers' lease, which readers of marks ask for (a standby among them, for the first state).
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(p, marks, writer_qos(kWorkerMarks));
     fdds::Topic* sectors = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
-    state->sectors_out =
-        std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
+    // Its own samples do not come back to its own reader (own_partition.hpp): the first state is the world.
+    state->sectors_out = std::make_unique<Writer<wire::SectorFrame>>(p.sector_publisher(), sectors,
+                                                                     writer_qos(kFirstStateDelivery));
     // Made with the others, so that the workers there have matched it by the time the scene is read.
     if (!options.standby)
-        state->first_state_out =
-            std::make_unique<Writer<wire::SectorFrame>>(p, sectors, writer_qos(kFirstStateDelivery));
+        state->first_state_out = std::make_unique<Writer<wire::SectorFrame>>(p.sector_publisher(), sectors,
+                                                                             writer_qos(kFirstStateDelivery));
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
     state->status_in = std::make_unique<Reader<wire::ClusterStatus>>(
@@ -126,13 +129,14 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         std::make_unique<Reader<wire::Command>>(p, p.topic<wire::CommandPubSubType>(kCommands),
                                                 reader_qos_on_own_port(kCommandDelivery), &state->inbox);
     state->sectors_in = std::make_unique<Reader<wire::SectorFrame>>(
-        p, sectors, reader_qos(kSectorFrameReading), &state->inbox);
+        p.sector_subscriber(), sectors, reader_qos(kSectorFrameReading), &state->inbox);
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
         !state->results_out->ok() || !state->marks_out->ok() || !state->sectors_out->ok() ||
         (state->first_state_out && !state->first_state_out->ok()) || !state->status_out->ok() ||
         !state->status_in->ok() || !state->marks_in->ok() || !state->commands_in->ok() ||
         !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
-        return Error{"cannot create the coordinator's DDS readers and writers"};
+        return Error{"cannot create the coordinator's DDS readers and writers" +
+                     dds::refused_endpoints_hint(options.security)};
     }
     // Beats within the lease, as workers' marks: a standby takes over when the coordinator's lapse.
     state->marks_beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(), beat_period(kWorkerMarks));

@@ -252,7 +252,7 @@ void Coordinator::State::start_instead() {
     largest_radius = 0.0;
     dds::Participant& p = *participant;
     first_state_out = std::make_unique<dds::Writer<wire::SectorFrame>>(
-        p, p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+        p.sector_publisher(), p.topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
         dds::writer_qos(dds::kFirstStateDelivery));
     status("loading", 0.0, 0);
     spdlog::warn(

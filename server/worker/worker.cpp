@@ -28,6 +28,7 @@
 #include "lpss_dds/sample_owners.hpp"
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_publisher.hpp"
+#include "lpss_dds/security.hpp"
 #include "lpss_dds/topics.hpp"
 #include "lpss_dds/whole_sector_asks.hpp"
 
@@ -247,15 +248,17 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     dds::Participant& p = *state->participant;
     using namespace dds;
     fdds::Topic* frames = p.topic<wire::SectorFramePubSubType>(kSectorFrames);
-    state->frames_out =
-        std::make_unique<Writer<wire::SectorFrame>>(p, frames, writer_qos(kSectorFrameDelivery));
+    // Its own samples do not come back to its own reader (own_partition.hpp).
+    state->frames_out = std::make_unique<Writer<wire::SectorFrame>>(p.sector_publisher(), frames,
+                                                                    writer_qos(kSectorFrameDelivery));
     state->marks_out = std::make_unique<Writer<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), writer_qos(kWorkerMarks));
     state->results_out = std::make_unique<Writer<wire::CommandResult>>(
         p, p.topic<wire::CommandResultPubSubType>(kCommandResults), writer_qos(kResultDelivery));
     // Only the samples addressed to this worker: its sectors and its halo's.
     state->frames_in = std::make_unique<Reader<wire::SectorFrame>>(
-        p, p.sector_recipient(kSectorFrames, options.id), reader_qos(kSectorFrameReading), &state->inbox);
+        p.sector_subscriber(), p.sector_recipient(kSectorFrames, options.id), reader_qos(kSectorFrameReading),
+        &state->inbox);
     state->marks_in = std::make_unique<Reader<wire::WorkerFrame>>(
         p, p.topic<wire::WorkerFramePubSubType>(kWorkerFrames), reader_qos(kFrameDelivery), &state->inbox);
     // With the frame starts' lease: a worker that hears no coordinator beat knows it is cut off.
@@ -274,7 +277,8 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
     if (!state->frames_out->ok() || !state->marks_out->ok() || !state->results_out->ok() ||
         !state->frames_in->ok() || !state->marks_in->ok() || !state->go_in->ok() || !state->acks_in->ok() ||
         !state->planes_in->ok() || !state->requests_in->ok() || !state->requests_out->ok()) {
-        return Error{"cannot create the worker's DDS readers and writers"};
+        return Error{"cannot create the worker's DDS readers and writers" +
+                     dds::refused_endpoints_hint(options.security)};
     }
     // Several beats a lease: a late beat or two does not make a worker look gone.
     state->beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(), beat_period(kWorkerMarks));

@@ -1,7 +1,9 @@
 // The wire layer: the built-in local profile lets participants find each other, samples keep their
-// keys and floats, a late joiner gets durable samples, and a region filter keeps only its sectors.
+// keys and floats, a late joiner gets durable samples, a region filter keeps only its sectors, and a
+// process's own sector samples stay out of its own sector reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "lpssPubSubTypes.h"
@@ -158,6 +160,70 @@ TEST(Wire, UnreadableProfileIsRefused) {
     auto p = Participant::create(kDomain, "/nonexistent/profile.xml", "x");
     ASSERT_FALSE(p.ok());
     EXPECT_NE(p.error().message.find("cannot read the DDS profile"), std::string::npos);
+}
+
+wire::SectorFrame sample_from(std::uint32_t worker) {
+    wire::SectorFrame f;
+    f.worker(worker);
+    f.sector(to_wire(SectorKey{0, 0, 0}));
+    f.frame(1);
+    return f;
+}
+
+// Own partitions (own_partition.hpp): a process's own sector samples do not come back to its own sector
+// reader, every other process's do, and a reader in the default partition (a client, another vendor) gets
+// all.
+TEST(Wire, ASectorReaderGetsEveryOtherProcesssSamplesAndNotItsOwn) {
+    auto a = Participant::create(kDomain, "", "own-partition-a");
+    auto b = Participant::create(kDomain, "", "own-partition-b");
+    auto client = Participant::create(kDomain, "", "own-partition-client");
+    ASSERT_TRUE(a.ok() && b.ok() && client.ok());
+    const auto qos = writer_qos(kSectorFrameDelivery);
+    Writer<wire::SectorFrame> a_out((*a)->sector_publisher(),
+                                    (*a)->topic<wire::SectorFramePubSubType>(kSectorFrames), qos);
+    Writer<wire::SectorFrame> b_out((*b)->sector_publisher(),
+                                    (*b)->topic<wire::SectorFramePubSubType>(kSectorFrames), qos);
+    Inbox inbox;
+    Reader<wire::SectorFrame> a_in((*a)->sector_subscriber(),
+                                   (*a)->topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                   reader_qos(kSectorFrameReading), &inbox);
+    Reader<wire::SectorFrame> b_in((*b)->sector_subscriber(),
+                                   (*b)->topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                   reader_qos(kSectorFrameReading), &inbox);
+    // A client's reader, in the default partition as every reader but a worker's or a coordinator's.
+    Reader<wire::SectorFrame> everything(**client,
+                                         (*client)->topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                         reader_qos(kSectorFrameReading), &inbox);
+    ASSERT_TRUE(a_out.ok() && b_out.ok() && a_in.ok() && b_in.ok() && everything.ok());
+    ASSERT_TRUE(eventually([&] {
+        return a_out.matched() == 2 && b_out.matched() == 2 && everything.matched() == 2;
+    })) << "a's writer matched "
+        << a_out.matched() << " readers, b's " << b_out.matched() << "; the client's reader "
+        << everything.matched() << " writers";
+    ASSERT_TRUE(a_out.write(sample_from(1)));
+    ASSERT_TRUE(b_out.write(sample_from(2)));
+    std::vector<std::uint32_t> to_a, to_b, to_client;
+    auto take = [](Reader<wire::SectorFrame>& reader, std::vector<std::uint32_t>& into) {
+        reader.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
+            if (info.valid_data) into.push_back(f.worker());
+        });
+    };
+    ASSERT_TRUE(eventually([&] {
+        take(a_in, to_a);
+        take(b_in, to_b);
+        take(everything, to_client);
+        return to_a.size() >= 1 && to_b.size() >= 1 && to_client.size() >= 2;
+    }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // anything more that would come
+    take(a_in, to_a);
+    take(b_in, to_b);
+    take(everything, to_client);
+    EXPECT_EQ(to_a, std::vector<std::uint32_t>{2});
+    EXPECT_EQ(to_b, std::vector<std::uint32_t>{1});
+    std::sort(to_client.begin(), to_client.end());
+    EXPECT_EQ(to_client, (std::vector<std::uint32_t>{1, 2}));
+    EXPECT_EQ(a_in.matched(), 1);
+    EXPECT_EQ(b_in.matched(), 1);
 }
 
 }  // namespace
