@@ -1,9 +1,12 @@
 // Example: a game backend. Spawns a few players (spheres) into a running lpss world and pushes them
 // around, printing where they are. usage: lpss-example-game-backend [DOMAIN] [SECONDS] [SECURITY_FOLDER]
+// [PROFILE]
 //   build/server/lpss-cluster deploy/scenes/far_stacks.textproto --workers 2 --realtime &
 //   build/client/lpss-example-game-backend 0 10
 // On a secured cluster (README, "A secured cluster") it needs an operator's identity, since it commands:
 //   build/client/lpss-example-game-backend 0 10 secure/operator
+// On a cluster across hosts, the cluster's profile (docs/operations.md; "" for no identity):
+//   build/client/lpss-example-game-backend 0 10 "" deploy/profiles/lpss-lan.xml
 #include <fmt/format.h>
 
 #include <chrono>
@@ -19,6 +22,7 @@ int main(int argc, char** argv) {
     options.domain = argc > 1 ? std::atoi(argv[1]) : 0;
     const int seconds = argc > 2 ? std::atoi(argv[2]) : 10;
     if (argc > 3) options.security = argv[3];
+    if (argc > 4) options.profile = argv[4];
     auto client = lpss::Client::connect(options);
     if (!client) {
         fmt::print(stderr, "cannot start: {}\n", client.error().message);

@@ -2993,14 +2993,25 @@ TEST(Cluster, TheExamplesRunAgainstTheExampleScene) {
     const std::string game_out = cluster.log_dir + "-game.out",
                       observer_out = cluster.log_dir + "-observer.out";
     auto game = runtime::ChildProcess::start(LPSS_EXAMPLE_GAME, {std::to_string(domain), "3"}, game_out);
-    auto observer =
-        runtime::ChildProcess::start(LPSS_EXAMPLE_OBSERVER, {std::to_string(domain), "120"}, observer_out);
+    // The observer with a profile given (no identity): the built-in one, as a file.
+    const std::string profile = std::string(LPSS_SOURCE_DIR) + "/deploy/profiles/lpss-local.xml";
+    auto observer = runtime::ChildProcess::start(LPSS_EXAMPLE_OBSERVER,
+                                                 {std::to_string(domain), "120", "", profile}, observer_out);
     ASSERT_TRUE(game && observer);
     EXPECT_TRUE(game->wait(std::chrono::seconds(60)));
     EXPECT_TRUE(observer->wait(std::chrono::seconds(60)));
     EXPECT_EQ(game->exit_code().value_or(-1), 0) << read_file(game_out);
     EXPECT_EQ(observer->exit_code().value_or(-1), 0) << read_file(observer_out);
     cluster.process->stop();
+    // A profile it cannot read: refused at once, naming it (the argument is used, not ignored).
+    const std::string refused_out = cluster.log_dir + "-refused.out";
+    auto refused = runtime::ChildProcess::start(
+        LPSS_EXAMPLE_GAME, {std::to_string(domain), "3", "", profile + ".missing"}, refused_out);
+    ASSERT_TRUE(refused);
+    EXPECT_TRUE(refused->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(refused->exit_code().value_or(-1), 2) << read_file(refused_out);
+    EXPECT_NE(read_file(refused_out).find("lpss-local.xml.missing"), std::string::npos)
+        << read_file(refused_out);
 
     // The game backend spawned its four players and saw them move.
     const std::string game_text = read_file(game_out);
