@@ -1,7 +1,5 @@
 #include "lpss_dds/participant.hpp"
 
-#include "lpss_dds/own_partition.hpp"
-
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -23,6 +21,7 @@
 #include <set>
 #include <utility>
 
+#include "lpss_dds/own_partition.hpp"
 #include "lpss_dds/sector_filters.hpp"
 #include "lpss_dds/security.hpp"
 #include "lpss_dds/shm_cleanup.hpp"
