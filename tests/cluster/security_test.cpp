@@ -378,5 +378,52 @@ TEST(Security, OnlyIdentitiesOfTheClustersCasTakePartEachInItsRole) {
     EXPECT_TRUE(operator_body) << "the operator's spawn never showed";
 }
 
+TEST(Security, AWorkerWhoseIdentityLacksTheSectorPartitionsSaysSoAndStops) {
+    // Workers and coordinators write and read sector frames in partitions of their own (own_partition.hpp),
+    // which an identity made before those partitions does not permit: the worker must say what to do.
+    const int domain = 187;
+    const testing::DomainCleanup cleanup(domain);
+    const Identities ids;
+    ASSERT_TRUE(ids.ok()) << ids.log();
+    const std::string old = ids["worker"] + "-before-the-partitions";
+    std::filesystem::copy(ids["worker"], old);
+    // Its permissions as the script wrote them before, signed by the same permissions CA.
+    std::string permissions = read_file(old + "/permissions.xml");
+    const std::string granted =
+        "<partitions><partition></partition><partition>lpss-from-*</partition></partitions>";
+    for (auto at = permissions.find(granted); at != std::string::npos; at = permissions.find(granted))
+        permissions.erase(at, granted.size());
+    ASSERT_EQ(permissions.find("lpss-from-"), std::string::npos) << permissions;
+    std::ofstream(old + "/permissions.xml") << permissions;
+    const std::string ca = ids.root() + "/ca/";
+    ASSERT_EQ(std::system(("openssl smime -sign -in " + old + "/permissions.xml -text -out " + old +
+                           "/permissions.p7s -signer " + ca + "permissions_ca.pem -inkey " + ca +
+                           "permissions_ca.key")
+                              .c_str()),
+              0);
+    for (const auto& [folder, refused] : {std::pair<std::string, bool>{old, true}, {ids["worker"], false}}) {
+        const std::string out = old + (refused ? ".refused.out" : ".taken.out");
+        auto worker = runtime::ChildProcess::start(LPSS_WORKER,
+                                                   {"--domain", std::to_string(domain), "--id", "1",
+                                                    "--security", folder, "--coordinator-wait-s", "1"},
+                                                   out);
+        ASSERT_TRUE(worker);
+        ASSERT_TRUE(worker->wait(std::chrono::seconds(30))) << read_file(out);
+        if (refused) {
+            EXPECT_EQ(worker->exit_code().value_or(-1), 2) << read_file(out);
+            EXPECT_NE(read_file(out).find("\"lpss-from-*\"? identities made by deploy/security/identities.sh "
+                                          "before 2026-12-05 do not: make them again"),
+                      std::string::npos)
+                << read_file(out);
+        } else {
+            // The control: the same identity as the script makes it now starts, and gives up for want of a
+            // coordinator.
+            EXPECT_EQ(read_file(out).find("cannot create"), std::string::npos) << read_file(out);
+            EXPECT_NE(read_file(out).find("waiting for the coordinator"), std::string::npos)
+                << read_file(out);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace lpss
