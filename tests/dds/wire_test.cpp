@@ -162,11 +162,10 @@ TEST(Wire, UnreadableProfileIsRefused) {
     EXPECT_NE(p.error().message.find("cannot read the DDS profile"), std::string::npos);
 }
 
+/// A sample written by `worker` (the body's id is the worker's, to tell them apart).
 wire::SectorFrame sample_from(std::uint32_t worker) {
-    wire::SectorFrame f;
+    wire::SectorFrame f = frame_of({0, 0, 0}, 1, worker, 0);
     f.worker(worker);
-    f.sector(to_wire(SectorKey{0, 0, 0}));
-    f.frame(1);
     return f;
 }
 
