@@ -252,16 +252,16 @@ private:
     fdds::DataWriter* writer_;
 };
 
-/// A typed data reader that reports to an inbox.
+/// A typed data reader that reports to an inbox (or to a listener that tells one).
 template <class T>
 class Reader {
 public:
     Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
-           Inbox* inbox)
+           fdds::DataReaderListener* inbox)
         : Reader(participant.subscriber(), topic, qos, inbox) {}
     /// On a subscriber of the participant's other than its default one (Participant::sector_subscriber).
     Reader(fdds::Subscriber* subscriber, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
-           Inbox* inbox)
+           fdds::DataReaderListener* inbox)
         : subscriber_(subscriber),
           reader_(subscriber->create_datareader(topic, qos, inbox,
                                                 inbox ? fdds::StatusMask::data_available()

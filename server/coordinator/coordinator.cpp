@@ -82,7 +82,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     fdds::Topic* go = p.topic<wire::FrameGoPubSubType>(kFrameGo);
     state->go_out = std::make_unique<Writer<wire::FrameGo>>(p, go, writer_qos(kCoordinatorWords));
     state->go_in =
-        std::make_unique<Reader<wire::FrameGo>>(p, go, reader_qos(kCoordinatorWords), &state->inbox);
+        std::make_unique<Reader<wire::FrameGo>>(p, go, reader_qos(kCoordinatorWords), &state->start_acks);
     fdds::Topic* acks = p.topic<wire::FrameAckPubSubType>(kFrameAcks);
     state->acks_in =
         std::make_unique<Reader<wire::FrameAck>>(p, acks, reader_qos(kCoordinatorWords), &state->inbox);

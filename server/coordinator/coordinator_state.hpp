@@ -24,6 +24,7 @@
 #include "lpss_dds/sector_chain.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "standing_commands.hpp"
+#include "start_acknowledger.hpp"
 
 namespace lpss::coordinator {
 
@@ -35,6 +36,9 @@ struct Coordinator::State {
     SectorGrid grid{1.0};
     std::unique_ptr<dds::Participant> participant;
     dds::Inbox inbox;
+    /// Takes the coordinator's frame starts as they come while this one stands by (before go_in: its
+    /// listener), and acknowledges those it may on sight.
+    StartAcknowledger start_acks{inbox};
     std::unique_ptr<dds::Writer<wire::FrameGo>> go_out;
     std::unique_ptr<dds::Writer<wire::Assignment>> assignment_out;
     std::unique_ptr<dds::Writer<wire::BodyDescription>> planes_out;

@@ -23,11 +23,13 @@ constexpr std::uint64_t kSamplesBetweenStarts = 16;
 }  // namespace
 
 void Coordinator::State::acknowledge(std::uint64_t f) {
+    if (start_acks.acknowledged(term, f)) return;  // on sight, as it came
     wire::FrameAck ack;
     ack.coordinator(options.id);
     ack.term(term);
     ack.frame(f);
     acks_out->write(ack);
+    start_acks.note_acknowledged(term, f);
 }
 
 void Coordinator::State::follow_bodies(const wire::Command& c) {
@@ -47,6 +49,13 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     spdlog::info("coordinator {}: standing by on domain {}", options.id, participant->domain());
     term = 0;  // the followed coordinator's, once its first start comes
     acknowledge(0);
+    // The starts are taken as they come from now on, and acknowledged there when they may be; no longer once
+    // this standby stops following (it took over, or stops).
+    start_acks.start_taking(options.id, go_in->raw(), acks_out.get());
+    struct StopTaking {
+        StartAcknowledger& acks;
+        ~StopTaking() { acks.stop_taking(); }
+    } stop_taking{start_acks};
     std::map<std::uint64_t, wire::FrameGo> starts;  ///< read, not yet followed
     std::optional<wire::FrameGo> last;              ///< the latest followed (and acknowledged if it asked)
     auto forget = [&](const std::string& client, std::uint64_t request) {
@@ -56,7 +65,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
     // the acknowledgement before they step, so what the follow costs after it (the frame's samples into
     // the copy of the world) is off their path. Nothing when the follow goes on; else what follow() returns.
     auto follow_starts = [&]() -> std::optional<Expected<std::uint64_t>> {
-        go_in->take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
+        start_acks.take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
             if (!info.valid_data || go.coordinator() == options.id || go.term() < term) return;
             lapses.heard(info.publication_handle, info.source_timestamp.to_ns());
             if (go.term() > term) {
@@ -208,6 +217,10 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
                          options.id);
         }
         if (primary_lost && last) {
+            // A start acknowledged on sight since the loop last looked is followed first: workers may have
+            // started it, so the takeover is from it. None is acknowledged from now on.
+            start_acks.stop_taking();
+            if (auto ended = follow_starts()) return std::move(*ended);
             if (last->standby() != options.id)
                 return Error{
                     "the coordinator is gone, and it had stopped waiting for this standby at frame " +

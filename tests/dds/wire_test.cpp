@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "eventually.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
@@ -43,15 +44,7 @@ wire::SectorFrame frame_of(const SectorKey& key, std::uint64_t frame, BodyId id,
     return f;
 }
 
-template <class Pred>
-bool eventually(Pred pred, std::chrono::milliseconds limit = std::chrono::seconds(10)) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-        if (pred()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return pred();
-}
+using lpss::testing::eventually;
 
 TEST(Wire, LateJoinerAndRegionFilter) {
     auto pub = Participant::create(kDomain, "", "wire-test-pub");
