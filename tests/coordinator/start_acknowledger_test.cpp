@@ -3,7 +3,6 @@
 // or a start after a gap; the follow loop still gets every start, in the order it came.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <vector>
 
 #include "eventually.hpp"
@@ -29,13 +28,12 @@ const ::testing::Environment* const kRemoveSharedMemory =
 constexpr std::uint32_t kStandby = 2;
 
 wire::FrameGo start(std::uint64_t frame, std::uint32_t term, std::uint32_t standby = kStandby,
-                    std::uint32_t coordinator = 1, bool stop = false) {
+                    std::uint32_t coordinator = 1) {
     wire::FrameGo go;
     go.coordinator(coordinator);
     go.term(term);
     go.frame(frame);
     go.standby(standby);
-    go.stop(stop);
     return go;
 }
 
