@@ -24,11 +24,7 @@ constexpr std::uint64_t kSamplesBetweenStarts = 16;
 
 void Coordinator::State::acknowledge(std::uint64_t f) {
     if (start_acks.acknowledged(term, f)) return;  // on sight, as it came
-    wire::FrameAck ack;
-    ack.coordinator(options.id);
-    ack.term(term);
-    ack.frame(f);
-    acks_out->write(ack);
+    acks_out->write(frame_ack(options.id, term, f));
     start_acks.note_acknowledged(term, f);
 }
 

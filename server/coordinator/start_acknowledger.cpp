@@ -4,6 +4,14 @@
 
 namespace lpss::coordinator {
 
+wire::FrameAck frame_ack(std::uint32_t self, std::uint32_t term, std::uint64_t frame) {
+    wire::FrameAck ack;
+    ack.coordinator(self);
+    ack.term(term);
+    ack.frame(frame);
+    return ack;
+}
+
 void StartAcknowledger::start_taking(std::uint32_t self, dds::fdds::DataReader* reader,
                                      dds::Writer<wire::FrameAck>* acks) {
     {
@@ -59,11 +67,7 @@ void StartAcknowledger::take_from(dds::fdds::DataReader* reader) {
                               go.standby() == self_ && go.term() == acked_term_ &&
                               go.frame() == acked_frame_ + 1;
         if (on_sight) {
-            wire::FrameAck ack;
-            ack.coordinator(self_);
-            ack.term(go.term());
-            ack.frame(go.frame());
-            acks_->write(ack);
+            acks_->write(frame_ack(self_, go.term(), go.frame()));
             acked_frame_ = go.frame();
         }
         arrived_.emplace_back(std::move(go), info);

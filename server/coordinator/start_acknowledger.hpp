@@ -19,6 +19,9 @@
 
 namespace lpss::coordinator {
 
+/// A standby's acknowledgement of frame `frame`'s start under `term`, as coordinator `self` writes it.
+wire::FrameAck frame_ack(std::uint32_t self, std::uint32_t term, std::uint64_t frame);
+
 class StartAcknowledger : public dds::fdds::DataReaderListener {
 public:
     /// `inbox`: where the follow loop waits, told of every start and of the reader's other news (matches,
