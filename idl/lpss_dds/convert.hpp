@@ -1,6 +1,9 @@
 // Conversions between the wire types (lpss::wire, generated from idl/lpss.idl) and lpss's own values.
 #pragma once
 
+#include <array>
+#include <cstdint>
+
 #include "lpss.h"
 #include "lpss/common/assignment.hpp"
 #include "lpss/common/body_desc.hpp"
@@ -15,7 +18,26 @@ SectorKey from_wire(const wire::SectorKey& key);
 wire::Vec3d to_wire(const Eigen::Vector3d& v);
 Eigen::Vector3d from_wire(const wire::Vec3d& v);
 
-/// A body's state with its position as a float offset from its sector's centre.
+/// A body's state as it goes on the wire (position as a float offset from its sector's centre), as a plain
+/// value: what a writer keeps of many bodies, copied and compared without fastddsgen's accessor calls.
+struct PackedBodyState {
+    BodyId id = 0;
+    std::array<float, 3> position{};
+    std::array<float, 4> orientation{};  ///< x, y, z, w
+    std::array<float, 3> linear_velocity{};
+    std::array<float, 3> angular_velocity{};
+    std::uint32_t flags = 0;  ///< bit 0: awake
+    bool awake() const { return (flags & 1u) != 0; }
+    /// The same state for readers (ids aside): each float compared as a float.
+    bool same_motion(const PackedBodyState& other) const {
+        return position == other.position && orientation == other.orientation &&
+               linear_velocity == other.linear_velocity && angular_velocity == other.angular_velocity &&
+               flags == other.flags;
+    }
+};
+PackedBodyState pack(const BodySnapshot& body);
+wire::BodyState to_wire(const PackedBodyState& state);
+/// A body's state with its position as a float offset from its sector's centre: to_wire(pack(body)).
 wire::BodyState to_wire(const BodySnapshot& body);
 /// The state read back, placed in `sector`.
 BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector);

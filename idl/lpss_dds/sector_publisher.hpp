@@ -21,6 +21,7 @@
 #include "lpss.h"
 #include "lpss/common/body_snapshot.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "lpss_dds/convert.hpp"
 
 namespace lpss::dds {
 
@@ -78,8 +79,10 @@ public:
     }
 
 private:
+    // Plain values, so that a sector's sorted bodies move by memmove and are searched and compared inline
+    // (with fastddsgen's types, its accessor and copy calls were most of the publisher's time).
     struct Body {
-        wire::BodyState state;  ///< as readers hold it
+        PackedBodyState state;  ///< as readers hold it
         std::uint32_t near = 0;
     };
     struct Sector {

@@ -3,24 +3,7 @@
 namespace lpss::dds {
 namespace {
 
-wire::Vec3f to_wire_f(const Eigen::Vector3d& v) {
-    wire::Vec3f out;
-    out.x(static_cast<float>(v.x()));
-    out.y(static_cast<float>(v.y()));
-    out.z(static_cast<float>(v.z()));
-    return out;
-}
-
 Eigen::Vector3d from_wire_f(const wire::Vec3f& v) { return {v.x(), v.y(), v.z()}; }
-
-wire::Quatf to_wire_q(const Eigen::Quaterniond& q) {
-    wire::Quatf out;
-    out.x(static_cast<float>(q.x()));
-    out.y(static_cast<float>(q.y()));
-    out.z(static_cast<float>(q.z()));
-    out.w(static_cast<float>(q.w()));
-    return out;
-}
 
 Eigen::Quaterniond from_wire_q(const wire::Quatf& q) {
     return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
@@ -48,16 +31,47 @@ wire::Vec3d to_wire(const Eigen::Vector3d& v) {
 
 Eigen::Vector3d from_wire(const wire::Vec3d& v) { return {v.x(), v.y(), v.z()}; }
 
-wire::BodyState to_wire(const BodySnapshot& body) {
-    wire::BodyState out;
-    out.id(body.id);
-    out.position(to_wire_f(body.position.local));
-    out.orientation(to_wire_q(body.orientation));
-    out.linear_velocity(to_wire_f(body.linear_velocity));
-    out.angular_velocity(to_wire_f(body.angular_velocity));
-    out.flags(body.awake ? 1u : 0u);
+PackedBodyState pack(const BodySnapshot& body) {
+    auto f3 = [](const Eigen::Vector3d& v) {
+        return std::array<float, 3>{static_cast<float>(v.x()), static_cast<float>(v.y()),
+                                    static_cast<float>(v.z())};
+    };
+    PackedBodyState out;
+    out.id = body.id;
+    out.position = f3(body.position.local);
+    const Eigen::Quaterniond& q = body.orientation;
+    out.orientation = {static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()),
+                       static_cast<float>(q.w())};
+    out.linear_velocity = f3(body.linear_velocity);
+    out.angular_velocity = f3(body.angular_velocity);
+    out.flags = body.awake ? 1u : 0u;
     return out;
 }
+
+wire::BodyState to_wire(const PackedBodyState& state) {
+    auto f3 = [](const std::array<float, 3>& v) {
+        wire::Vec3f out;
+        out.x(v[0]);
+        out.y(v[1]);
+        out.z(v[2]);
+        return out;
+    };
+    wire::BodyState out;
+    out.id(state.id);
+    out.position(f3(state.position));
+    wire::Quatf q;
+    q.x(state.orientation[0]);
+    q.y(state.orientation[1]);
+    q.z(state.orientation[2]);
+    q.w(state.orientation[3]);
+    out.orientation(q);
+    out.linear_velocity(f3(state.linear_velocity));
+    out.angular_velocity(f3(state.angular_velocity));
+    out.flags(state.flags);
+    return out;
+}
+
+wire::BodyState to_wire(const BodySnapshot& body) { return to_wire(pack(body)); }
 
 BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
     BodySnapshot out;

@@ -7,16 +7,6 @@
 namespace lpss::dds {
 namespace {
 
-bool same_state(const wire::BodyState& a, const wire::BodyState& b) {
-    auto eq3 = [](const wire::Vec3f& x, const wire::Vec3f& y) {
-        return x.x() == y.x() && x.y() == y.y() && x.z() == y.z();
-    };
-    return eq3(a.position(), b.position()) && eq3(a.linear_velocity(), b.linear_velocity()) &&
-           eq3(a.angular_velocity(), b.angular_velocity()) && a.orientation().x() == b.orientation().x() &&
-           a.orientation().y() == b.orientation().y() && a.orientation().z() == b.orientation().z() &&
-           a.orientation().w() == b.orientation().w() && a.flags() == b.flags();
-}
-
 wire::SectorFrame sample_of(const SectorKey& key, std::uint64_t frame, std::uint64_t base, bool complete) {
     wire::SectorFrame sample;
     sample.sector(to_wire(key));
@@ -32,7 +22,7 @@ void SectorPublisher::count(Sector& sector, const Body& body, int sign) {
     const auto s = static_cast<std::uint32_t>(sign);
     sector.counts.bodies += s;
     totals_.bodies += s;
-    if (is_awake(body.state)) {
+    if (body.state.awake()) {
         sector.counts.awake += s;
         totals_.awake += s;
     }
@@ -51,7 +41,7 @@ wire::SectorFrame SectorPublisher::whole(const SectorKey& key, const std::vector
     sample.kinds().reserve(bodies.size());
     sample.offsets().reserve(bodies.size());
     for (std::size_t n = 0; n < bodies.size(); ++n) {
-        sample.bodies().push_back(sector.bodies[n].state);
+        sample.bodies().push_back(to_wire(sector.bodies[n].state));
         sample.kinds().push_back(describe(bodies[n].id));
         sample.offsets().push_back(to_wire(bodies[n].position.local));
     }
@@ -65,7 +55,7 @@ void SectorPublisher::adopt(const SectorKey& key, const std::vector<BodySnapshot
     Sector& sector = sectors_[key];
     sector.bodies.reserve(bodies.size());
     for (std::size_t n = 0; n < bodies.size(); ++n) {
-        Body body{to_wire(bodies[n]), near[n]};
+        Body body{pack(bodies[n]), near[n]};
         count(sector, body, +1);
         sector.bodies.push_back(std::move(body));
     }
@@ -81,25 +71,26 @@ std::optional<wire::SectorFrame> SectorPublisher::update(const SectorKey& key,
     if (found == sectors_.end()) return std::nullopt;  // never published: the caller sends it whole
     Sector& sector = found->second;
     wire::SectorFrame sample = sample_of(key, frame, sector.stamp, false);
-    auto by_id = [](const Body& b, BodyId id) { return b.state.id() < id; };
+    sample.bodies().reserve(changed.size());
+    auto by_id = [](const Body& b, BodyId id) { return b.state.id < id; };
     for (std::size_t n = 0; n < changed.size(); ++n) {
-        Body now{to_wire(changed[n]), near[n]};
+        const Body now{pack(changed[n]), near[n]};
         auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), changed[n].id, by_id);
-        if (at != sector.bodies.end() && at->state.id() == changed[n].id) {
-            if (!same_state(at->state, now.state)) sample.bodies().push_back(now.state);
+        if (at != sector.bodies.end() && at->state.id == changed[n].id) {
+            if (!at->state.same_motion(now.state)) sample.bodies().push_back(to_wire(now.state));
             count(sector, *at, -1);
             count(sector, now, +1);
-            *at = std::move(now);
+            *at = now;
         } else {
-            sample.bodies().push_back(now.state);
+            sample.bodies().push_back(to_wire(now.state));
             sample.kinds().push_back(describe(changed[n].id));
             count(sector, now, +1);
-            sector.bodies.insert(at, std::move(now));
+            sector.bodies.insert(at, now);
         }
     }
     for (BodyId id : left) {
         auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), id, by_id);
-        if (at == sector.bodies.end() || at->state.id() != id) continue;
+        if (at == sector.bodies.end() || at->state.id != id) continue;
         sample.departed().push_back(id);
         count(sector, *at, -1);
         sector.bodies.erase(at);
@@ -130,8 +121,8 @@ void SectorPublisher::set_near(const SectorKey& key, const std::vector<BodySnaps
     Sector& sector = found->second;
     for (std::size_t n = 0; n < bodies.size(); ++n) {
         auto at = std::lower_bound(sector.bodies.begin(), sector.bodies.end(), bodies[n].id,
-                                   [](const Body& b, BodyId id) { return b.state.id() < id; });
-        if (at == sector.bodies.end() || at->state.id() != bodies[n].id) continue;
+                                   [](const Body& b, BodyId id) { return b.state.id < id; });
+        if (at == sector.bodies.end() || at->state.id != bodies[n].id) continue;
         count(sector, *at, -1);
         at->near = near[n];
         count(sector, *at, +1);

@@ -69,7 +69,7 @@ void World::Impl::note_active(Sector& sector) {
         BodyRecord& rec = bodies[slot];
         if (rec.dynamic && rec.moved_frame != frame && rec.rb->isActive()) {
             rec.moved_frame = frame;
-            sector.moved.push_back(rec.id);
+            sector.moved.push_back(slot);
         }
     }
 }

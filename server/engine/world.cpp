@@ -373,7 +373,7 @@ void World::Impl::move_body(std::uint32_t slot, const SectorPosition& to) {
     dest.originals.push_back(slot);
     wake(dest);
     changes.left(from.key, rec.id);
-    changes.touched(dest.key, rec.id);
+    changes.touched(dest.key, slot);
     if (from.originals.empty()) pending_destroy.push_back(from.id);
     // A jump of more than a sector (set_state, a very fast body) leaves clones no partner can need.
     for (std::size_t n = rec.clones.size(); n-- > 0;) {
@@ -551,29 +551,33 @@ SectorChanges World::sector_changes(const SectorKey& key) const {
     SectorChanges out;
     const engine::ChangeLog::Entry* entry = w.changes.find(key);
     if (entry == nullptr) return out;
-    auto here = [&](BodyId id) -> const BodyRecord* {
-        Expected<std::uint32_t> slot = w.slot_of(id);
-        if (!slot) return nullptr;
-        const BodyRecord& rec = w.record(slot.value());
-        return !rec.plane && w.sector_of(rec).key == key ? &rec : nullptr;
-    };
-    std::vector<BodyId> ids = entry->touched;
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    out.bodies.reserve(ids.size());
-    out.radii.reserve(ids.size());
-    for (BodyId id : ids) {
-        if (const BodyRecord* rec = here(id)) {
-            out.bodies.push_back(w.snapshot_of(*rec));
-            out.radii.push_back(rec->bound_radius);
-        }
+    auto here = [&](const BodyRecord& rec) { return rec.alive && !rec.plane && w.sector_of(rec).key == key; };
+    std::vector<std::uint32_t> slots = entry->touched;
+    std::sort(slots.begin(), slots.end());
+    slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+    std::vector<std::pair<BodyId, std::uint32_t>> present;  // by id, as publishers keep sectors
+    present.reserve(slots.size());
+    for (std::uint32_t slot : slots) {
+        const BodyRecord& rec = w.record(slot);
+        if (here(rec)) present.emplace_back(rec.id, slot);
+    }
+    std::sort(present.begin(), present.end());
+    out.bodies.reserve(present.size());
+    out.radii.reserve(present.size());
+    for (const auto& [id, slot] : present) {
+        const BodyRecord& rec = w.record(slot);
+        out.bodies.push_back(w.snapshot_of(rec));
+        out.radii.push_back(rec.bound_radius);
     }
     out.left = entry->left;
     std::sort(out.left.begin(), out.left.end());
     out.left.erase(std::unique(out.left.begin(), out.left.end()), out.left.end());
-    out.left.erase(
-        std::remove_if(out.left.begin(), out.left.end(), [&](BodyId id) { return here(id) != nullptr; }),
-        out.left.end());
+    out.left.erase(std::remove_if(out.left.begin(), out.left.end(),
+                                  [&](BodyId id) {
+                                      Expected<std::uint32_t> slot = w.slot_of(id);
+                                      return slot && here(w.record(slot.value()));
+                                  }),
+                   out.left.end());
     return out;
 }
 
@@ -620,7 +624,7 @@ void World::Impl::step() {
         BodyRecord& rec = record(slot);
         if (!rec.alive) continue;
         border.note_bounds_changed(slot);  // what the step computed ahead is stale after a command
-        if (!rec.plane) changes.touched(sector_of(rec).key, rec.id);
+        if (!rec.plane) changes.touched(sector_of(rec).key, slot);
         if (rec.visit_frame != frame) {
             rec.visit_frame = frame;
             candidates.push_back(slot);
@@ -668,7 +672,7 @@ void World::Impl::step() {
     // the bodies the step found active.
     for (engine::SectorId id : step_set) {
         Sector& s = sectors.at(id);
-        for (BodyId moved : s.moved)
+        for (std::uint32_t moved : s.moved)
             changes.touched(s.key, moved);
         s.moved.clear();
     }
