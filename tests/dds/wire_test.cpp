@@ -16,13 +16,19 @@
 namespace lpss::dds {
 namespace {
 
-// A domain of this test's own, so that suites can run side by side.
+// Domains of these tests' own, so that suites can run side by side: ctest runs each test as a process of
+// its own, in parallel, and these are not in network namespaces (seen: the own-partition test's samples
+// reached the late joiner's readers when the two ran together under -j2).
 constexpr int kDomain = 171;
+constexpr int kOwnPartitionDomain = 189;
 
 // Every participant leaves port files in /dev/shm; the suite removes its domain's when it ends.
 class RemoveSharedMemory : public ::testing::Environment {
 public:
-    void TearDown() override { remove_abandoned_shm(kDomain); }
+    void TearDown() override {
+        remove_abandoned_shm(kDomain);
+        remove_abandoned_shm(kOwnPartitionDomain);
+    }
 };
 const ::testing::Environment* const kRemoveSharedMemory =
     ::testing::AddGlobalTestEnvironment(new RemoveSharedMemory);  // gtest owns it
@@ -166,9 +172,9 @@ wire::SectorFrame sample_from(std::uint32_t worker) {
 // reader, every other process's do, and a reader in the default partition (a client, another vendor) gets
 // all.
 TEST(Wire, ASectorReaderGetsEveryOtherProcesssSamplesAndNotItsOwn) {
-    auto a = Participant::create(kDomain, "", "own-partition-a");
-    auto b = Participant::create(kDomain, "", "own-partition-b");
-    auto client = Participant::create(kDomain, "", "own-partition-client");
+    auto a = Participant::create(kOwnPartitionDomain, "", "own-partition-a");
+    auto b = Participant::create(kOwnPartitionDomain, "", "own-partition-b");
+    auto client = Participant::create(kOwnPartitionDomain, "", "own-partition-client");
     ASSERT_TRUE(a.ok() && b.ok() && client.ok());
     const auto qos = writer_qos(kSectorFrameDelivery);
     Writer<wire::SectorFrame> a_out((*a)->sector_publisher(),
