@@ -494,11 +494,11 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
             last_word = Clock::now();
             spdlog::warn(
                 "worker {}: still waiting for the world's first state after {:.0f} s: the coordinator's "
-                "mark of it {}, {} of {} planes, {} sector samples of frame 0, {} writers of sector "
-                "frames matched",
+                "mark of it {}, {} of {} planes ({} writers of planes matched), {} sector samples of "
+                "frame 0, {} writers of sector frames matched",
                 options.id, std::chrono::duration<double>(Clock::now() - started).count(),
                 gate.has_mark(0, 0) ? "here" : "missing", early_planes.size(), go.planes(),
-                samples.count(0) ? samples.at(0).size() : 0, frames_in->matched());
+                planes_in->matched(), samples.count(0) ? samples.at(0).size() : 0, frames_in->matched());
         }
     }
     if (stop.load()) return false;
