@@ -118,8 +118,7 @@ public:
     std::vector<std::uint32_t> partnered;
     std::vector<ContactRecord> contacts;        ///< touching pairs at the last step, sorted by (a, b)
     std::vector<ContactRecord> fresh_contacts;  ///< filled by the step, merged serially afterwards
-    std::vector<std::uint32_t>
-        moved;  ///< slots of originals active during the step, logged serially afterwards
+    std::vector<std::uint32_t> moved;  ///< originals active during the step (slots), logged serially after
     /// Slots of the originals the step moved that the next frame's sectorization or border index has
     /// work for (beyond the hysteresis band, or out of their fat reach box): found by the stepping
     /// thread, where the body is in cache, so that the serial stages do not walk the rest (Box2D's
