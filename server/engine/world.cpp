@@ -552,16 +552,14 @@ SectorChanges World::sector_changes(const SectorKey& key) const {
     const engine::ChangeLog::Entry* entry = w.changes.find(key);
     if (entry == nullptr) return out;
     auto here = [&](const BodyRecord& rec) { return rec.alive && !rec.plane && w.sector_of(rec).key == key; };
-    std::vector<std::uint32_t> slots = entry->touched;
-    std::sort(slots.begin(), slots.end());
-    slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
     std::vector<std::pair<BodyId, std::uint32_t>> present;  // by id, as publishers keep sectors
-    present.reserve(slots.size());
-    for (std::uint32_t slot : slots) {
+    present.reserve(entry->touched.size());
+    for (std::uint32_t slot : entry->touched) {
         const BodyRecord& rec = w.record(slot);
         if (here(rec)) present.emplace_back(rec.id, slot);
     }
     std::sort(present.begin(), present.end());
+    present.erase(std::unique(present.begin(), present.end()), present.end());  // a slot touched twice
     out.bodies.reserve(present.size());
     out.radii.reserve(present.size());
     for (const auto& [id, slot] : present) {
