@@ -206,10 +206,12 @@ int main(int argc, char** argv) {
     // The standby first, so that it follows the world from its first state; the coordinator waits for it.
     std::optional<ChildProcess> standby;
     bool standby_gone = false;  ///< ended before the coordinator (said once)
+    std::vector<std::string> standby_args = args;
+    standby_args.push_back("--standby");
+    std::string standby_log =
+        log_dir + "/standby.log";  ///< the standby's now (one started again has its own)
     if (!no_standby) {
-        std::vector<std::string> standby_args = args;
-        standby_args.push_back("--standby");
-        standby = ChildProcess::start(coordinator_program, standby_args, log_dir + "/standby.log");
+        standby = ChildProcess::start(coordinator_program, standby_args, standby_log);
         if (!standby) {
             std::fprintf(stderr, "lpss-cluster: cannot start the standby coordinator\n");
             return 2;
@@ -338,6 +340,8 @@ int main(int argc, char** argv) {
     std::vector<Clock::time_point> restarted_at(children.size(), Clock::time_point{});
     std::vector<bool> said_ended(children.size(), false);
     int restarts = 0;
+    constexpr int kStandbyRestarts = 3;
+    int standby_restarts = 0;
     while (true) {
         inbox.wait(std::chrono::milliseconds(100));
         marks->take_all([&](const lpss::wire::WorkerFrame& m, const lpss::dds::fdds::SampleInfo& info) {
@@ -421,11 +425,30 @@ int main(int argc, char** argv) {
         // (One that ends with 0 read the coordinator's stop, as the workers do: the run is ending.)
         if (standby && !taken_over && !standby_gone && !standby->running() &&
             standby->exit_code().value_or(1) != 0) {
+            // One killed before frame 1 is started again: the coordinator holds frame 1 for a standby's
+            // hello (for --standby-wait-s, 20 s), and a new one can still follow the world from its first
+            // state. Not one that ended by itself (it said why in its log), and not in a loop. After frame 1
+            // a new standby could not take over (it would lack the frames before), so none is started then.
+            const int code = standby->exit_code().value_or(1);
+            if (last_frame == 0 && code > 128 && standby_restarts < kStandbyRestarts &&
+                coordinator->running()) {
+                standby_log = log_dir + fmt::format("/standby.{}.log", ++standby_restarts);
+                auto again = ChildProcess::start(coordinator_program, standby_args, standby_log);
+                if (again) {
+                    standby = std::move(*again);
+                    fmt::print(
+                        "lpss-cluster: the standby coordinator ended before frame 1 ({}); started again, "
+                        "its log in {}\n",
+                        lpss::runtime::describe_exit_code(code), standby_log);
+                    std::fflush(stdout);
+                    continue;
+                }
+            }
             standby_gone = true;
             fmt::print(
                 "lpss-cluster: the standby coordinator ended ({}): no takeover if the coordinator "
-                "ends; see {}/standby.log\n",
-                lpss::runtime::describe_exit_code(standby->exit_code().value_or(1)), log_dir);
+                "ends; see {}\n",
+                lpss::runtime::describe_exit_code(standby->exit_code().value_or(1)), standby_log);
             std::fflush(stdout);
         }
         // Before frame 1 the standby knows the coordinator by its first word: one that died before that
@@ -434,9 +457,8 @@ int main(int argc, char** argv) {
         // one.
         if (taken_over && last_frame == 0 && !standby_leads &&
             Clock::now() - taken_over_at > std::chrono::seconds(25)) {
-            fmt::print(stderr,
-                       "lpss-cluster: the standby did not start the world within 25 s; see {}/standby.log\n",
-                       log_dir);
+            fmt::print(stderr, "lpss-cluster: the standby did not start the world within 25 s; see {}\n",
+                       standby_log);
             active->stop(std::chrono::seconds(2));
             exit_code = 3;
             break;
@@ -506,7 +528,7 @@ int main(int argc, char** argv) {
     }
     if (exit_code != 0) {
         // The coordinator's last words say why (a refused scene, say).
-        std::ifstream log(log_dir + (taken_over ? "/standby.log" : "/coordinator.log"));
+        std::ifstream log(taken_over ? standby_log : log_dir + "/coordinator.log");
         std::string line, last_error;
         while (std::getline(log, line)) {
             if (!last_error.empty() || line.find("[error]") != std::string::npos) last_error += line + "\n";

@@ -260,6 +260,12 @@ inline std::string primary_coordinator_process(int domain) {
     return "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--await-standby'";
 }
 
+/// The pkill -f pattern of lpss-cluster's standby coordinator on `domain` (its last argument: the
+/// coordinator's --standby-wait-s would match a pattern that did not end there).
+inline std::string standby_process(int domain) {
+    return "'[l]pss-coordinator --domain " + std::to_string(domain) + " .*--standby$'";
+}
+
 /// The lpss processes of a domain, by pid, with a name: "coordinator", "standby" or "worker N".
 inline std::map<int, std::string> processes_of(int domain) {
     std::map<int, std::string> out;
