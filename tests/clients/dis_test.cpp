@@ -66,7 +66,7 @@ struct Received {
 TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
     if (const std::string missing = testing::node_tool_missing("open-dis"); !missing.empty())
         GTEST_SKIP() << missing;
-    constexpr int kDomain = 146;
+    constexpr int kDomain = 192;
     constexpr int kFrames = 720;  // 12 s at 60 Hz: two heartbeats of a body at rest, and the convoys meet
     const testing::DomainCleanup cleanup(kDomain);
     const std::string scene_path = std::string(LPSS_SOURCE_DIR) + "/deploy/scenes/ecef_convoy.textproto";
