@@ -178,6 +178,8 @@ struct Worker::State {
     bool start_world(const wire::FrameGo& go, const std::atomic<bool>& stop);
     /// The engine world under the coordinator's settings; false (logged) if they are refused.
     bool create_world(const wire::Assignment& announced);
+    /// A reader of the world's planes (body descriptions), made anew in place of the one there may be.
+    void read_planes();
     /// The planes read before the world existed, each with its rank (its place in the scene); they count as
     /// held from now on.
     std::vector<std::pair<std::uint64_t, BodyDesc>> take_early_planes();
@@ -266,9 +268,7 @@ Expected<std::unique_ptr<Worker>> Worker::create(const WorkerOptions& options) {
                                                            reader_qos(kCoordinatorWords), &state->inbox);
     state->acks_in = std::make_unique<Reader<wire::FrameAck>>(
         p, p.topic<wire::FrameAckPubSubType>(kFrameAcks), reader_qos(kFrameDelivery), &state->inbox);
-    state->planes_in = std::make_unique<Reader<wire::BodyDescription>>(
-        p, p.topic<wire::BodyDescriptionPubSubType>(kBodyDescriptions), reader_qos(kDescriptionReading),
-        &state->inbox);
+    state->read_planes();
     state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
         p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
     state->requests_in = std::make_unique<Reader<wire::SectorRequest>>(
@@ -483,6 +483,7 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
     // Waits as long as the coordinator is there: a large world takes a while to send.
     const auto started = Clock::now();
     auto last_word = started;
+    auto planes_asked = started;
     while (!stop.load() && (!gate.whole(0, {}, true, chain) || early_planes.size() < go.planes())) {
         if (!coordinator_present()) {
             spdlog::error("worker {}: the coordinator went away while sending the world", options.id);
@@ -490,6 +491,23 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         }
         inbox.wait(std::chrono::milliseconds(50));
         pump();
+        // The planes are durable samples the coordinator wrote before this start: a reader matched to their
+        // writer has them within moments. Twice a secured cluster's worker waited 30 s for "0 of 1 planes"
+        // (2026-12-05; whether its reader had matched was not logged then). A new reader is a new match,
+        // to which the writer sends its history again.
+        if (early_planes.size() < go.planes() && planes_in->matched() > 0 &&
+            Clock::now() - planes_asked > std::chrono::seconds(5)) {
+            planes_asked = Clock::now();
+            spdlog::warn(
+                "worker {}: {} of {} planes after {:.0f} s from {} matched writer(s): reading them anew",
+                options.id, early_planes.size(), go.planes(),
+                std::chrono::duration<double>(Clock::now() - started).count(), planes_in->matched());
+            read_planes();
+            if (!planes_in->ok()) {
+                spdlog::error("worker {}: cannot make its reader of the world's planes anew", options.id);
+                return false;
+            }
+        }
         if (Clock::now() - last_word > std::chrono::seconds(5)) {
             last_word = Clock::now();
             spdlog::warn(
@@ -574,6 +592,14 @@ wire::WorkerFrame Worker::State::mark_of(std::uint64_t f) const {
         if (frames_out->reaches(reader)) m.reaching().push_back(w);
     }
     return m;
+}
+
+void Worker::State::read_planes() {
+    planes_in.reset();  // its endpoint goes before the new one is made
+    dds::Participant& p = *participant;
+    planes_in = std::make_unique<dds::Reader<wire::BodyDescription>>(
+        p, p.topic<wire::BodyDescriptionPubSubType>(dds::kBodyDescriptions),
+        dds::reader_qos(dds::kDescriptionReading), &inbox);
 }
 
 std::vector<std::pair<std::uint64_t, BodyDesc>> Worker::State::take_early_planes() {
