@@ -208,8 +208,8 @@ int main(int argc, char** argv) {
     bool standby_gone = false;  ///< ended before the coordinator (said once)
     std::vector<std::string> standby_args = args;
     standby_args.push_back("--standby");
-    std::string standby_log =
-        log_dir + "/standby.log";  ///< the standby's now (one started again has its own)
+    // The standby's log now: one started again has its own.
+    std::string standby_log = log_dir + "/standby.log";
     if (!no_standby) {
         standby = ChildProcess::start(coordinator_program, standby_args, standby_log);
         if (!standby) {
