@@ -2,16 +2,29 @@
 # The main job: installs what is missing, builds, and runs the example scene on a localhost cluster (a
 # coordinator and two workers, in real time for 10 s), printing a live summary. lpss-view shows it in a
 # browser meanwhile, on this machine only: the address is printed first.
-# usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options; --workers and --frames replace 2 and 600]
+# usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options; --workers and --frames replace 2 and 600,
+#        --domain is the viewer's too]
 #        LPSS_VIEW_PORT=P picks the viewer's port (default 8090); LPSS_VIEW=0 runs without it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/deploy/setup.sh" "$root/build"
-scene="${1:-$root/deploy/scenes/far_stacks.textproto}"
-shift || true
+# The scene, if the first argument is not an option (deploy/run-example.sh --domain 5 runs the example scene).
+scene="$root/deploy/scenes/far_stacks.textproto"
+if [[ $# -gt 0 && "$1" != -* ]]; then
+    scene=$1
+    shift
+fi
+# The viewer reads the cluster's domain: the one given among the extra options, if any.
+view_domain=()
+previous=""
+for arg in "$@"; do
+    [[ "$previous" == --domain ]] && view_domain=(--domain "$arg")
+    [[ "$arg" == --domain=* ]] && view_domain=(--domain "${arg#--domain=}")
+    previous=$arg
+done
 if [[ "${LPSS_VIEW:-1}" != 0 ]]; then
     view_log="$root/build/lpss-view.log"
-    "$root/build/client/lpss-view" --port "${LPSS_VIEW_PORT:-8090}" >"$view_log" 2>&1 &
+    "$root/build/client/lpss-view" --port "${LPSS_VIEW_PORT:-8090}" "${view_domain[@]}" >"$view_log" 2>&1 &
     view=$!
     trap 'kill "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true' EXIT
     for _ in $(seq 50); do
