@@ -3,7 +3,7 @@
 # coordinator and two workers, in real time for 10 s), printing a live summary. lpss-view shows it in a
 # browser meanwhile, on this machine only: the address is printed first.
 # usage: deploy/run-example.sh [SCENE] [extra lpss-cluster options; --workers and --frames replace 2 and 600,
-#        --domain is the viewer's too]
+#        --domain, --profile and --security are the viewer's too]
 #        LPSS_VIEW_PORT=P picks the viewer's port (default 8090); LPSS_VIEW=0 runs without it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -14,17 +14,24 @@ if [[ $# -gt 0 && "$1" != -* ]]; then
     scene=$1
     shift
 fi
-# The viewer reads the cluster's domain: the one given among the extra options, if any.
-view_domain=()
+# The viewer reads the cluster's domain, with its profile, and under DDS Security as its observer: as given
+# among the extra options, if they are.
+view_options=()
 previous=""
 for arg in "$@"; do
-    [[ "$previous" == --domain ]] && view_domain=(--domain "$arg")
-    [[ "$arg" == --domain=* ]] && view_domain=(--domain "${arg#--domain=}")
+    case "$previous" in
+    --domain | --profile) view_options+=("$previous" "$arg") ;;
+    --security) view_options+=(--security "$arg/observer") ;;
+    esac
+    case "$arg" in
+    --domain=* | --profile=*) view_options+=("$arg") ;;
+    --security=*) view_options+=(--security "${arg#--security=}/observer") ;;
+    esac
     previous=$arg
 done
 if [[ "${LPSS_VIEW:-1}" != 0 ]]; then
     view_log="$root/build/lpss-view.log"
-    "$root/build/client/lpss-view" --port "${LPSS_VIEW_PORT:-8090}" "${view_domain[@]}" >"$view_log" 2>&1 &
+    "$root/build/client/lpss-view" --port "${LPSS_VIEW_PORT:-8090}" "${view_options[@]}" >"$view_log" 2>&1 &
     view=$!
     trap 'kill "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true' EXIT
     for _ in $(seq 50); do
