@@ -483,7 +483,9 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
     // Waits as long as the coordinator is there: a large world takes a while to send.
     const auto started = Clock::now();
     auto last_word = started;
-    auto planes_asked = started;
+    constexpr auto kNotYet = Clock::time_point::max();
+    auto planes_matched_at = kNotYet;  // when this planes reader first had a writer
+    auto planes_patience = std::chrono::seconds(5);
     while (!stop.load() && (!gate.whole(0, {}, true, chain) || early_planes.size() < go.planes())) {
         if (!coordinator_present()) {
             spdlog::error("worker {}: the coordinator went away while sending the world", options.id);
@@ -494,18 +496,24 @@ bool Worker::State::start_world(const wire::FrameGo& go, const std::atomic<bool>
         // The planes are durable samples the coordinator wrote before this start: a reader matched to their
         // writer has them within moments. Twice a secured cluster's worker waited 30 s for "0 of 1 planes"
         // (2026-12-05; whether its reader had matched was not logged then). A new reader is a new match,
-        // to which the writer sends its history again.
-        if (early_planes.size() < go.planes() && planes_in->matched() > 0 &&
-            Clock::now() - planes_asked > std::chrono::seconds(5)) {
-            planes_asked = Clock::now();
-            spdlog::warn(
-                "worker {}: {} of {} planes after {:.0f} s from {} matched writer(s): reading them anew",
-                options.id, early_planes.size(), go.planes(),
-                std::chrono::duration<double>(Clock::now() - started).count(), planes_in->matched());
-            read_planes();
-            if (!planes_in->ok()) {
-                spdlog::error("worker {}: cannot make its reader of the world's planes anew", options.id);
-                return false;
+        // to which the writer sends its history again. Its patience doubles each time: a new reader starts
+        // its matching over, and one matched only to the standby's writer (which writes no plane) must
+        // not be made anew faster than a loaded machine matches the coordinator's.
+        if (early_planes.size() < go.planes() && planes_in->matched() > 0) {
+            if (planes_matched_at == kNotYet) {
+                planes_matched_at = Clock::now();
+            } else if (Clock::now() - planes_matched_at > planes_patience) {
+                spdlog::warn(
+                    "worker {}: {} of {} planes after {:.0f} s from {} matched writer(s): reading them anew",
+                    options.id, early_planes.size(), go.planes(),
+                    std::chrono::duration<double>(Clock::now() - started).count(), planes_in->matched());
+                read_planes();
+                if (!planes_in->ok()) {
+                    spdlog::error("worker {}: cannot make its reader of the world's planes anew", options.id);
+                    return false;
+                }
+                planes_matched_at = kNotYet;
+                planes_patience *= 2;
             }
         }
         if (Clock::now() - last_word > std::chrono::seconds(5)) {
