@@ -196,6 +196,54 @@ inline std::map<std::uint64_t, WorldFrame> collect(Client& client, std::uint64_t
     return frames;
 }
 
+/// A client's frames by number and the time each arrived, for the tests that measure what a fault costs a
+/// client; `on_frame`, if given, runs as each frame arrives (to read the workers' marks meanwhile).
+class FrameRecorder {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    explicit FrameRecorder(Client& client, std::function<void()> on_frame = {})
+        : client_(client), on_frame_(std::move(on_frame)) {}
+
+    /// Polls every 5 ms until frame `last` is in (or `limit` has passed).
+    void gather(std::uint64_t last, std::chrono::seconds limit) {
+        collect_into(
+            client_, frames, last, limit,
+            [&](std::uint64_t f) {
+                arrived[f] = Clock::now();
+                if (on_frame_) on_frame_();
+            },
+            std::chrono::milliseconds(5));
+    }
+
+    /// Keeps what one poll of at most `wait` returns.
+    void poll(std::chrono::milliseconds wait) {
+        for (WorldFrame& f : client_.poll(wait)) {
+            arrived[f.frame] = Clock::now();
+            if (on_frame_) on_frame_();
+            frames[f.frame] = std::move(f);
+        }
+    }
+
+    /// The pause after a fault: the longest wait, in seconds, from `since` for the first frame after `after`,
+    /// and between each frame after it and the next, by the times the frames arrived.
+    double longest_wait(std::uint64_t after, Clock::time_point since) const {
+        double pause = 0.0;
+        for (auto it = arrived.upper_bound(after); it != arrived.end(); ++it) {
+            pause = std::max(pause, std::chrono::duration<double>(it->second - since).count());
+            since = it->second;
+        }
+        return pause;
+    }
+
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::map<std::uint64_t, Clock::time_point> arrived;
+
+private:
+    Client& client_;
+    std::function<void()> on_frame_;
+};
+
 struct SimRow {
     SectorPosition position;
     Eigen::Quaterniond orientation;

@@ -41,6 +41,7 @@ namespace {
 using testing::collect;
 using testing::collect_into;
 using testing::connect;
+using testing::FrameRecorder;
 using testing::LeakCounter;
 using testing::read_file;
 using testing::run_sim;
@@ -71,18 +72,6 @@ Scene crossing_scene() {
     BodyDesc wall = scenes::box_body(6, Eigen::Vector3d(0.5, 20, 20), 0.0, Eigen::Vector3d(2.9 * kL, 0, 0));
     scene.bodies.push_back(wall);
     return scene;
-}
-
-/// The pause a client saw after a fault: the longest wait, in seconds, from `since` for the first frame after
-/// `after`, and between each frame after it and the next, by the times the frames arrived.
-double longest_wait(const std::map<std::uint64_t, std::chrono::steady_clock::time_point>& arrived,
-                    std::uint64_t after, std::chrono::steady_clock::time_point since) {
-    double pause = 0.0;
-    for (auto it = arrived.upper_bound(after); it != arrived.end(); ++it) {
-        pause = std::max(pause, std::chrono::duration<double>(it->second - since).count());
-        since = it->second;
-    }
-    return pause;
 }
 
 std::string against_sim(const std::map<std::uint64_t, WorldFrame>& frames, const SimFrames& sim,
@@ -1039,24 +1028,19 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
     using Clock = std::chrono::steady_clock;
-    std::map<std::uint64_t, WorldFrame> frames;
-    std::map<std::uint64_t, Clock::time_point> arrived;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
-            std::chrono::milliseconds(5));
-    };
-    gather(150, std::chrono::seconds(60));
+    FrameRecorder seen(*client);
+    auto& frames = seen.frames;
+    seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     // Kill worker 2 outright, as a crash would.
     const auto killed = Clock::now();
     ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
-    gather(kFrames, std::chrono::seconds(60));
+    seen.gather(kFrames, std::chrono::seconds(60));
     ASSERT_GT(frames.rbegin()->first, killed_at + 120) << "frames go on after the death";
 
     // The pause a client sees: the longest wait for a frame after the kill.
-    const double pause = longest_wait(arrived, killed_at, killed);
+    const double pause = seen.longest_wait(killed_at, killed);
     // Every frame the client saw holds every body once, each within the cluster's bound of lpss-sim
     // (docs/protocol.md: 1e-3), the frames around the death included.
     const SectorGrid grid(kL);
@@ -1421,14 +1405,9 @@ double fault_every_worker(int workers, int domain, int stop_s = 0) {
     EXPECT_TRUE(cluster.process);
     if (!cluster.process) return -1.0;
     using Clock = std::chrono::steady_clock;
-    std::map<std::uint64_t, WorldFrame> frames;
-    std::map<std::uint64_t, Clock::time_point> arrived;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
-            std::chrono::milliseconds(5));
-    };
-    gather(150, std::chrono::seconds(60));
+    FrameRecorder seen(*client);
+    auto& frames = seen.frames;
+    seen.gather(150, std::chrono::seconds(60));
     EXPECT_FALSE(frames.empty());
     if (frames.empty()) return -1.0;
     const auto killed = Clock::now();
@@ -1439,9 +1418,9 @@ double fault_every_worker(int workers, int domain, int stop_s = 0) {
                                          : "pkill -KILL -f " + pattern;
     EXPECT_EQ(std::system(fault.c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
-    gather(kFrames, std::chrono::seconds(90));
+    seen.gather(kFrames, std::chrono::seconds(90));
     EXPECT_EQ(frames.rbegin()->first, kFrames) << "the world goes on to its last frame";
-    const double pause = longest_wait(arrived, killed_at, killed);
+    const double pause = seen.longest_wait(killed_at, killed);
     double worst = 0.0;
     EXPECT_EQ(against_sim(frames, sim, worst), "");
     std::uint64_t after = 0;
@@ -1608,20 +1587,16 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     BodiesPerWorker owners(domain);
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
-    std::map<std::uint64_t, WorldFrame> frames;
     std::uint64_t killed_at = kFrames;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        // Worker 2's marks after the kill: the restarted one's.
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t) { owners.poll(killed_at + 10); },
-            std::chrono::milliseconds(5));
-    };
-    gather(150, std::chrono::seconds(60));
+    // Worker 2's marks after the kill: the restarted one's.
+    FrameRecorder seen(*client, [&] { owners.poll(killed_at + 10); });
+    auto& frames = seen.frames;
+    seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     killed_at = frames.rbegin()->first;
     owners.forget(2);
-    gather(killed_at + 60, std::chrono::seconds(60));
+    seen.gather(killed_at + 60, std::chrono::seconds(60));
     auto start_worker = [&](int id) {
         return runtime::ChildProcess::start(LPSS_WORKER,
                                             {"--domain", std::to_string(domain), "--id", std::to_string(id)},
@@ -1629,10 +1604,10 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     };
     auto restarted = start_worker(2);
     ASSERT_TRUE(restarted);
-    gather(killed_at + 250, std::chrono::seconds(60));
+    seen.gather(killed_at + 250, std::chrono::seconds(60));
     auto newcomer = start_worker(4);
     ASSERT_TRUE(newcomer);
-    gather(kFrames, std::chrono::seconds(90));
+    seen.gather(kFrames, std::chrono::seconds(90));
     ASSERT_EQ(frames.rbegin()->first, kFrames);
 
     double worst = 0.0;
@@ -1730,30 +1705,22 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     ASSERT_TRUE(standby && coordinator);
     const testing::LogsOnFailure printed(logs);  // (the logs are beside the scene: "<scene>.cut.*")
     using Clock = std::chrono::steady_clock;
-    std::map<std::uint64_t, WorldFrame> frames;
-    std::map<std::uint64_t, Clock::time_point> arrived;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
-            std::chrono::milliseconds(5));
-    };
-    gather(150, std::chrono::seconds(60));
+    FrameRecorder seen(*client);
+    auto& frames = seen.frames;
+    seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty()) << "no frame across the fake hosts";
     ASSERT_TRUE(hosts.cut(3));
     const auto cut = Clock::now();
     const std::uint64_t cut_at = frames.rbegin()->first;
     // During the cut, the others go on without worker 2.
     while (Clock::now() - cut < std::chrono::seconds(3)) {
-        for (WorldFrame& f : client->poll(std::chrono::milliseconds(5))) {
-            arrived[f.frame] = Clock::now();
-            frames[f.frame] = std::move(f);
-        }
+        seen.poll(std::chrono::milliseconds(5));
     }
     const std::uint64_t during = frames.rbegin()->first;
     ASSERT_TRUE(hosts.restore(3));
-    gather(kFrames, std::chrono::seconds(90));
+    seen.gather(kFrames, std::chrono::seconds(90));
     ASSERT_EQ(frames.rbegin()->first, kFrames);
-    const double pause = longest_wait(arrived, cut_at, cut);
+    const double pause = seen.longest_wait(cut_at, cut);
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf(
@@ -1804,14 +1771,9 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
     using Clock = std::chrono::steady_clock;
-    std::map<std::uint64_t, WorldFrame> frames;
-    std::map<std::uint64_t, Clock::time_point> arrived;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
-            std::chrono::milliseconds(5));
-    };
-    gather(150, std::chrono::seconds(60));
+    FrameRecorder seen(*client);
+    auto& frames = seen.frames;
+    seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     // Static spheres far from everything, so that the rest of the world stays lpss-sim's: 30 spawns about
     // a frame apart, the coordinator killed after the tenth.
@@ -1828,17 +1790,14 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
             killed_at = frames.rbegin()->first;
             ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
         }
-        for (WorldFrame& f : client->poll(std::chrono::milliseconds(0))) {
-            arrived[f.frame] = Clock::now();
-            frames[f.frame] = std::move(f);
-        }
+        seen.poll(std::chrono::milliseconds(0));
     }
-    gather(kFrames, std::chrono::seconds(60));
+    seen.gather(kFrames, std::chrono::seconds(60));
     ASSERT_GT(frames.rbegin()->first, killed_at + 200) << "frames go on after the coordinator's death";
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
 
-    const double pause = longest_wait(arrived, killed_at, killed);
+    const double pause = seen.longest_wait(killed_at, killed);
     // Each spawn answered once: applied at a frame, or refused with a reason.
     std::map<BodyId, std::uint64_t> applied_at;
     for (const auto& [id, request] : spawns) {
@@ -1962,23 +1921,18 @@ TEST(Cluster, AKilledStandbyCostsAPauseAndNoBody) {
     auto cluster = start_cluster(path, domain, 2, kFrames);
     ASSERT_TRUE(cluster.process);
     using Clock = std::chrono::steady_clock;
-    std::map<std::uint64_t, WorldFrame> frames;
-    std::map<std::uint64_t, Clock::time_point> arrived;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t f) { arrived[f] = Clock::now(); },
-            std::chrono::milliseconds(5));
-    };
-    gather(120, std::chrono::seconds(60));
+    FrameRecorder seen(*client);
+    auto& frames = seen.frames;
+    seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     const auto killed = Clock::now();
     ASSERT_EQ(std::system(("pkill -KILL -f " + testing::standby_process(domain)).c_str()), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
-    gather(kFrames, std::chrono::seconds(60));
+    seen.gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "the world ran to its end";
-    const double pause = longest_wait(arrived, killed_at, killed);
+    const double pause = seen.longest_wait(killed_at, killed);
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
     const auto after = static_cast<std::size_t>(std::distance(frames.upper_bound(killed_at), frames.end()));
@@ -2255,33 +2209,29 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     BodiesPerWorker owners(domain);
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1", "--realtime"});
     ASSERT_TRUE(cluster.process);
-    std::map<std::uint64_t, WorldFrame> frames;
     std::uint64_t killed_at = kFrames;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t) { owners.poll(killed_at + 10); },
-            std::chrono::milliseconds(5));
-    };
-    gather(120, std::chrono::seconds(60));
+    FrameRecorder seen(*client, [&] { owners.poll(killed_at + 10); });
+    auto& frames = seen.frames;
+    seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     killed_at = frames.rbegin()->first;
     owners.forget(2);
-    gather(killed_at + 60, std::chrono::seconds(60));
+    seen.gather(killed_at + 60, std::chrono::seconds(60));
     auto restarted = runtime::ChildProcess::start(
         LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "2"}, cluster.log_dir + ".restarted2");
     ASSERT_TRUE(restarted);
     // Until the restarted worker has simulated bodies (the standby has read its marks of frames too).
     const auto joined_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (owners.most(2) == 0 && std::chrono::steady_clock::now() < joined_by)
-        gather(frames.rbegin()->first + 10, std::chrono::seconds(10));
+        seen.gather(frames.rbegin()->first + 10, std::chrono::seconds(10));
     ASSERT_GT(owners.most(2), 0u) << "the restarted worker joined; logs: " << cluster.log_dir;
-    gather(frames.rbegin()->first + 30, std::chrono::seconds(10));
+    seen.gather(frames.rbegin()->first + 30, std::chrono::seconds(10));
     const std::uint64_t coordinator_killed_at = frames.rbegin()->first;
     ASSERT_LT(coordinator_killed_at + 100, kFrames) << "time left to run after the takeover";
     const std::string coordinator = testing::primary_coordinator_process(domain);
     ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
-    gather(kFrames, std::chrono::seconds(60));
+    seen.gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
@@ -2319,23 +2269,19 @@ TEST(Cluster, AWorkerRestartedJustBeforeTheCoordinatorDiesIsLetInByTheStandbyAnd
     BodiesPerWorker owners(domain);
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1", "--realtime"});
     ASSERT_TRUE(cluster.process);
-    std::map<std::uint64_t, WorldFrame> frames;
-    auto gather = [&](std::uint64_t last, std::chrono::seconds limit) {
-        collect_into(
-            *client, frames, last, limit, [&](std::uint64_t) { owners.poll(0); },
-            std::chrono::milliseconds(5));
-    };
-    gather(120, std::chrono::seconds(60));
+    FrameRecorder seen(*client, [&] { owners.poll(0); });
+    auto& frames = seen.frames;
+    seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
     owners.forget(2);
     // A second at 60 frames a second: the lease (0.4 s) has lapsed for both coordinators by then.
-    gather(frames.rbegin()->first + 60, std::chrono::seconds(60));
+    seen.gather(frames.rbegin()->first + 60, std::chrono::seconds(60));
     auto restarted = runtime::ChildProcess::start(
         LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "2"}, cluster.log_dir + ".restarted2");
     ASSERT_TRUE(restarted);
     ASSERT_EQ(std::system(("pkill -KILL -f " + testing::primary_coordinator_process(domain)).c_str()), 0);
-    gather(kFrames, std::chrono::seconds(60));
+    seen.gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
