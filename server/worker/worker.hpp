@@ -18,7 +18,7 @@ namespace lpss::worker {
 struct WorkerOptions {
     std::uint32_t id = 1;
     int domain = 0;
-    std::string profile;  ///< Fast DDS XML profile; empty: the built-in local one
+    std::string profile;   ///< Fast DDS XML profile; empty: the built-in local one
     std::string security;  ///< DDS Security identity folder (a worker's); empty: none
     int threads = 1;
     /// How long a frame waits for the other workers' data of the previous frame before it starts

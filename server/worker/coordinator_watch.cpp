@@ -1,0 +1,50 @@
+#include "coordinator_watch.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+namespace lpss::worker {
+
+void CoordinatorWatch::note(const dds::fdds::InstanceHandle_t& writer, const char* what,
+                            std::int32_t alive_count) {
+    auto known = std::find(writers_.begin(), writers_.end(), writer);
+    if (known == writers_.end()) known = writers_.insert(known, writer);
+    const auto number = static_cast<std::size_t>(known - writers_.begin()) + 1;
+    news_.push_back({Clock::now(), number, what, alive_count});
+    if (news_.size() > 12) news_.pop_front();
+}
+
+void CoordinatorWatch::follow(const std::vector<dds::Inbox::Liveliness>& changes) {
+    const auto now = Clock::now();
+    for (const dds::Inbox::Liveliness& change : changes) {
+        note(change.writer, change.alive ? "alive" : (change.merged ? "lapsed (merged)" : "lapsed"),
+             change.alive_count);
+        lapses_.reported(change.writer, change.alive, now);
+        if (change.merged)
+            spdlog::info("worker {}: one liveliness report of two coordinators' writers ({} alive now)",
+                         worker_, change.alive_count);
+        if (change.alive || change.alive_count > 0) heard_any_ = true;
+        // A writer that lapsed while its coming alive went unreported was alive all the same: in the set, it
+        // gets the grace of any lapse (ConfirmedLapses) before the worker can count itself cut off.
+        if (change.alive || change.alive_count < alive_count_) alive_.insert(change.writer);
+        alive_count_ = change.alive_count;
+    }
+    for (const dds::fdds::InstanceHandle_t& writer : lapses_.confirmed(now)) {
+        note(writer, "lapse confirmed", alive_count_);
+        alive_.erase(writer);
+    }
+}
+
+std::string CoordinatorWatch::history() const {
+    std::string out;
+    const auto now = Clock::now();
+    for (const News& n : news_) {
+        out +=
+            fmt::format("{}{:.3f} s ago, coordinators' writer {} {} ({} alive)", out.empty() ? "" : "; ",
+                        std::chrono::duration<double>(now - n.at).count(), n.writer, n.what, n.alive_count);
+    }
+    return out.empty() ? "none" : out;
+}
+
+}  // namespace lpss::worker
