@@ -1,5 +1,8 @@
-// What a coordinator holds and does, shared by its files: coordinator.cpp (loading, frames, workers gone,
-// rebalancing) and standby.cpp (following another coordinator and taking over from it).
+// What a coordinator holds and does, shared by its files: coordinator.cpp (its DDS entities, reading what
+// comes, the frame loop), world_load.cpp (the scene and the world's first state), command_decisions.cpp
+// (clients' commands), assignment_changes.cpp (handoffs, joiners, rebalancing), gone_workers.cpp (a gone
+// worker's frame stepped here, its sectors given to the others) and standby.cpp (following another
+// coordinator and taking over from it).
 #pragma once
 
 #include <chrono>
@@ -29,6 +32,14 @@
 namespace lpss::coordinator {
 
 using Clock = std::chrono::steady_clock;
+
+inline double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+/// Sector samples waiting to be taken past which the coordinator takes them while it waits for marks (or
+/// for a worker to join): an eighth of what its reader keeps per writer (kSectorFrameReading).
+inline constexpr std::uint64_t kSampleBacklog = 1024;
 
 struct Coordinator::State {
     CoordinatorOptions options;
