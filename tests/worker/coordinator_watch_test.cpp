@@ -1,0 +1,92 @@
+// When a worker takes itself as cut off from every coordinator: only once a writer it heard has lapsed for
+// its grace, never while the frame start reader still counts one alive (a report that merged two writers'
+// changes names one of them), and not if the writer's newer frame starts show it alive.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "coordinator_watch.hpp"
+
+namespace lpss::worker {
+namespace {
+
+dds::fdds::InstanceHandle_t writer(std::uint8_t n) {
+    dds::fdds::InstanceHandle_t h;
+    h.value[0] = n;
+    return h;
+}
+
+dds::Inbox::Liveliness change(std::uint8_t n, bool alive, std::int32_t alive_count, bool merged = false) {
+    dds::Inbox::Liveliness c;
+    c.writer = writer(n);
+    c.alive = alive;
+    c.alive_count = alive_count;
+    c.merged = merged;
+    return c;
+}
+
+/// Longer than any grace a lapse gets (ConfirmedLapses: 150 ms, or 450 ms for one beside another's).
+void past_grace() { std::this_thread::sleep_for(std::chrono::milliseconds(600)); }
+
+TEST(CoordinatorWatch, IsNotCutOffBeforeAnyCoordinatorWasHeard) {
+    CoordinatorWatch watch(1);
+    watch.follow({});
+    EXPECT_FALSE(watch.cut_off());
+    EXPECT_EQ(watch.history(), "none");
+}
+
+TEST(CoordinatorWatch, ALapseCutsOffOnlyOnceItsGraceHasPassed) {
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1)});
+    EXPECT_FALSE(watch.cut_off());
+    watch.follow({change(1, false, 0)});
+    EXPECT_FALSE(watch.cut_off()) << "within the lapse's grace";
+    past_grace();
+    watch.follow({});
+    EXPECT_TRUE(watch.cut_off());
+    const std::string history = watch.history();
+    EXPECT_NE(history.find("writer 1 alive"), std::string::npos) << history;
+    EXPECT_NE(history.find("writer 1 lapse confirmed"), std::string::npos) << history;
+}
+
+TEST(CoordinatorWatch, AWriterComingBackAliveWithinItsGraceIsNotALapse) {
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1), change(1, false, 0), change(1, true, 1)});
+    past_grace();
+    watch.follow({});
+    EXPECT_FALSE(watch.cut_off());
+}
+
+TEST(CoordinatorWatch, AFrameStartWrittenAfterTheLapseShowsTheWriterAlive) {
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1), change(1, false, 0)});
+    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    watch.heard(writer(1), now_ns + 1'000'000);
+    past_grace();
+    watch.follow({});
+    EXPECT_FALSE(watch.cut_off());
+}
+
+TEST(CoordinatorWatch, AStandbyWhoseComingAliveWasMergedIntoTheCoordinatorsReportStillCounts) {
+    // The coordinator's and the standby's writers come alive in one report that names the coordinator's
+    // alone; the coordinator then dies. The standby's writer, never named alive, is still counted.
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 2, true)});
+    watch.follow({change(1, false, 1)});
+    past_grace();
+    watch.follow({});
+    EXPECT_FALSE(watch.cut_off()) << "the reader counts one writer alive";
+    // Then the standby's lapses too: its report is the first to name it.
+    watch.follow({change(2, false, 0)});
+    EXPECT_FALSE(watch.cut_off()) << "within the lapse's grace";
+    past_grace();
+    watch.follow({});
+    EXPECT_TRUE(watch.cut_off());
+    EXPECT_NE(watch.history().find("writer 2 lapse confirmed"), std::string::npos) << watch.history();
+}
+
+}  // namespace
+}  // namespace lpss::worker
