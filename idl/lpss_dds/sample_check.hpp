@@ -20,7 +20,7 @@ inline constexpr std::uint64_t kFramesAhead = 2;
 /// For clients, which learn frames from the workers' marks: marks travel on a topic of their own and were
 /// seen arriving 3 frames after the samples of their frame (a late joiner refused those samples and never
 /// showed a frame). Also for a worker joining a running world, which learns frames from starts that come
-/// late (see Worker::State::take_sample). Ten seconds at 60 frames a second: a peer's sample further ahead
+/// late (see Worker::State::frames_ahead). Ten seconds at 60 frames a second: a peer's sample further ahead
 /// is still refused.
 inline constexpr std::uint64_t kClientFramesAhead = 600;
 

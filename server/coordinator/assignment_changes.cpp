@@ -1,5 +1,6 @@
 // Changes of who simulates what: handoffs of bodies crossing into other workers' sectors (granted in the
-// next start), joiners admitted once every worker reaches them, and rebalancing by the workers' loads.
+// next start), joiners admitted once every worker reaches them, and the balanced assignment a rebalance
+// (decided in run, by kRebalanceGain) or a change of workers takes on.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>

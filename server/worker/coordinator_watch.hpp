@@ -42,7 +42,7 @@ private:
     /// set, and the worker took itself as cut off when the coordinator died although it heard the standby
     /// take over. `alive_count_` says what the set may have missed.
     std::set<dds::fdds::InstanceHandle_t> alive_;
-    /// How many of those writers the frame start reader counts alive, by its last report.
+    /// How many of the coordinators' writers the frame start reader counts alive, by its last report.
     std::int32_t alive_count_ = 0;
     dds::ConfirmedLapses<dds::fdds::InstanceHandle_t> lapses_;
     bool heard_any_ = false;

@@ -25,7 +25,7 @@ void Inventories::ask(const wire::SectorRequest& r) {
 void Inventories::take_up(const std::function<bool(const dds::GuidBytes&)>& reaches,
                           const dds::SectorPublisher& publisher) {
     // DDS's history holds a worker's last samples, not every sector's (see SectorFrame in idl/lpss.idl):
-    // every sector of the region goes whole.
+    // every sector of the region the reader lacks goes whole.
     for (auto it = asked_.begin(); it != asked_.end();) {
         const Request& r = it->second;
         if (r.frames_reader && !reaches(*r.frames_reader)) {

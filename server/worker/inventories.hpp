@@ -1,7 +1,8 @@
 // Readers that start (a client, a worker joining) ask each worker for an inventory of its sectors in a
 // region: which sectors exist, and as of which frame. A worker answers in the mark of the first frame its
 // sector writer reaches the reader (what a writer sends before it has matched a reader never reaches it),
-// and sends those sectors whole after the mark, a few bodies' worth a frame.
+// and sends the sectors the reader lacks whole, a few bodies' worth a frame: the first share just before
+// that mark, the rest in the frames after.
 #pragma once
 
 #include <chrono>

@@ -43,7 +43,7 @@ std::vector<wire::WrittenSector> Worker::State::publish() {
     }
     keys.insert(adopted.begin(), adopted.end());
     // Readers that asked for an inventory and that this worker's sector writer reaches: every sector of
-    // their region, whole, a share a frame.
+    // their region they lack, whole, a share a frame.
     inventories.take_up([this](const dds::GuidBytes& reader) { return frames_out->reaches(reader); },
                         publisher);
     const std::set<SectorKey> for_joiners = inventories.due_now(publisher);
@@ -119,8 +119,8 @@ void Worker::State::mark(std::vector<wire::WrittenSector> written, double step_m
     wire::WorkerFrame m = mark_of(frame);
     m.epoch(halo.current().epoch);
     m.written(std::move(written));
-    // Inventories: what a reader that starts needs to know which sectors exist (their samples of this
-    // frame, whole, follow the mark).
+    // Inventories: what a reader that starts needs to know which sectors exist (the first share of those it
+    // lacks went whole just before this mark, the rest go in the frames after).
     for (wire::SectorInventory& inventory : inventories.answers(publisher))
         m.inventories().push_back(std::move(inventory));
 

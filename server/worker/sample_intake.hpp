@@ -32,9 +32,11 @@ public:
     void learn(const SectorAssignment& assignment, std::uint64_t known, std::uint64_t ahead);
     /// The sectors to ask for whole now (their samples refused for a missing base); empty if none.
     std::vector<wire::SectorKey> whole_due() { return wanted_whole_.due(std::chrono::steady_clock::now()); }
-    /// The queued samples of frames up to `up_to`, oldest first, for the halo to apply; forgotten here then.
+    /// The queued samples of frames up to `up_to`, oldest first, for the halo to apply. They stay here
+    /// (and the pointers valid) until `applied`, or any other call that changes the queue.
     std::vector<const wire::SectorFrame*> through(std::uint64_t up_to);
-    /// Drops what `through` handed out (call once they are applied).
+    /// Drops the samples of frames up to `up_to` once they are applied, and what the chain and the owners
+    /// kept for them.
     void applied(std::uint64_t up_to);
     /// The samples queued for `frame`; null if none.
     const std::vector<wire::SectorFrame>* of_frame(std::uint64_t frame) const;
@@ -42,8 +44,9 @@ public:
     const dds::SectorChain& chain() const { return chain_; }
     /// The serialized bytes of the samples of `frame` read; those of that frame and before are forgotten.
     std::uint64_t take_received_bytes(std::uint64_t frame);
-    /// Forgets every sample: those of frames before `floor` are history (a worker that joins a running
-    /// cluster, restarted perhaps under the id of one that is gone).
+    /// Forgets every sample, and what the chain, the owners and the sectors asked for whole held: samples
+    /// of frames before `floor` are history (a worker that joins a running cluster, restarted perhaps under
+    /// the id of one that is gone). The bytes counted and the refusals logged are kept.
     void start_over(std::uint64_t floor);
 
 private:

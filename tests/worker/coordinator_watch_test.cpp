@@ -56,6 +56,7 @@ TEST(CoordinatorWatch, AWriterComingBackAliveWithinItsGraceIsNotALapse) {
     past_grace();
     watch.follow({});
     EXPECT_FALSE(watch.cut_off());
+    EXPECT_EQ(watch.history().find("lapse confirmed"), std::string::npos) << watch.history();
 }
 
 TEST(CoordinatorWatch, AFrameStartWrittenAfterTheLapseShowsTheWriterAlive) {

@@ -1,7 +1,6 @@
 // How a worker answers readers that ask for an inventory of its sectors: in the mark of the first frame its
 // writer reaches them, listing every sector of their region it publishes with its latest frame, and sending
-// those sectors whole over the frames after, at most Inventories::kBodiesPerFrame bodies' worth a frame,
-// except those the reader already holds.
+// those the reader lacks whole, at most Inventories::kBodiesPerFrame bodies' worth a frame.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -108,6 +107,26 @@ TEST(Inventories, SectorsTheReaderHoldsAreListedButNotSentAgain) {
     EXPECT_EQ(listed(answers[0]), (std::vector<std::int64_t>{0, 1, 2, 3}));
     EXPECT_EQ(inventories.due_now(p), (std::set<SectorKey>{{2, 0, 0}, {3, 0, 0}}))
         << "written after frame 11";
+}
+
+TEST(Inventories, AReaderThatHoldsNothingGetsEvenSectorsNeverWrittenSinceTheFirstState) {
+    // Sectors adopted from the coordinator's first state have stamp 0; a reader that holds nothing says 0.
+    dds::SectorPublisher p;
+    const std::vector<BodySnapshot> all = bodies_in({0, 0, 0}, 1, 3);
+    p.adopt({0, 0, 0}, all, std::vector<std::uint32_t>(all.size(), 1u << 13), 0);
+    Inventories inventories;
+    inventories.ask(asking("new client", {0, 0, 0}, {0, 0, 0}, 0));
+    inventories.take_up(kReachesNone, p);
+    EXPECT_EQ(inventories.due_now(p), (std::set<SectorKey>{{0, 0, 0}}));
+}
+
+TEST(Inventories, ASectorGivenAwayBeforeItsTurnIsNotSent) {
+    dds::SectorPublisher p = publishing(10);
+    Inventories inventories;
+    inventories.ask(asking("client", {0, 0, 0}, {1, 0, 0}));
+    inventories.take_up(kReachesNone, p);
+    p.forget({1, 0, 0});  // its new owner's sample says so
+    EXPECT_EQ(inventories.due_now(p), (std::set<SectorKey>{{0, 0, 0}}));
 }
 
 TEST(Inventories, LargeSectorsGoWholeAShareAFrame) {
