@@ -10,8 +10,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
-#include "lpss_dds/sample_owners.hpp"
-#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sample_intake.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
 #include "lpss_dds/whole_sector_asks.hpp"
@@ -47,13 +46,12 @@ struct Client::State {
     std::optional<WorldSettings> settings;
     /// Assignments by the frame they take effect from: which workers end each frame, and own which sectors.
     std::map<std::uint64_t, std::vector<std::uint32_t>> workers_from;
-    dds::SampleOwners owners;  ///< which worker owns which sectors, and so writes their samples
     std::map<BodyId, BodyDesc> planes;
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
-    std::map<std::uint64_t, std::vector<wire::SectorFrame>> pending;  ///< samples by frame
-    dds::SectorChain chain;                                           ///< which samples are usable
-    dds::SectorMirror mirror;           ///< the sectors as of the last frame applied
-    dds::WholeSectorAsks wanted_whole;  ///< sectors whose partial samples were refused
+    /// The sector samples read: checked, judged by the assignments (which worker owns which sectors, and
+    /// so writes their samples), chained, and kept by frame until shown.
+    dds::SampleIntake intake{"client"};
+    dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
     std::uint64_t next_sector_request = 1;
 
     /// What a worker said at the end of a frame: the sectors it wrote (that this client follows), how many
@@ -85,7 +83,6 @@ struct Client::State {
     /// The newest frame a worker has ended, as far as this client knows: samples much newer are garbage.
     static constexpr std::uint64_t kNoMarkYet = ~std::uint64_t{0} - dds::kClientFramesAhead;
     std::uint64_t newest_mark = kNoMarkYet;
-    dds::RefusedSamples refused_samples{"client"};
     std::uint64_t inventory_request = 0;  ///< the latest asked; 0: not asked since the last (re)sync
     /// Answers to requests numbered from this on count: every request since the client began to (re)sync.
     /// A worker's answer to any of them is what it held at its frame, which sync() can start from.
@@ -165,7 +162,7 @@ struct Client::State {
 };
 
 void Client::State::describe_cluster(WorldFrame& out, std::uint64_t from, std::uint64_t shown) const {
-    if (const SectorAssignment* assignment = owners.in_force(shown)) {
+    if (const SectorAssignment* assignment = intake.owners().in_force(shown)) {
         // Once per sector: the owner's lookup (a Morton code, a search) was a tenth of what a whole-world
         // client of a million bodies spent a frame, with the same few sectors asked for over and over.
         std::unordered_map<SectorKey, std::uint32_t, SectorKeyHash> owner;
@@ -268,7 +265,7 @@ void Client::State::take() {
         grid = SectorGrid(a.settings().sector_size());
         settings = dds::from_wire(a.settings());
         workers_from[a.from_frame()] = a.workers();
-        for (wire::SectorFrame& f : owners.learn(dds::from_wire(a)))
+        for (wire::SectorFrame& f : intake.learn(dds::from_wire(a)))
             take_sample(std::move(f));
     });
     planes_in->take_all([&](const wire::BodyDescription& d, const dds::fdds::SampleInfo& info) {
@@ -364,19 +361,11 @@ void Client::State::take() {
 void Client::State::take_sample(wire::SectorFrame f) {
     // The coordinator's samples hold the world's first state, of sectors not written since (and the
     // state of a dead worker's sectors, for their next owner).
-    if (chain.stale(f)) return;
+    if (intake.chain().stale(f)) return;
     // A sector no inventory and no mark names, at a frame already applied: it was empty then, and this
     // is an older sample of it from a history that still holds one (see forget_unlisted).
     if (synced && f.frame() <= applied && !stamps.count(dds::from_wire(f.sector()))) return;
-    if (std::string why = dds::implausible(f, newest_mark, dds::kClientFramesAhead); !why.empty())
-        return refused_samples.refuse(why);
-    if (!owners.admit(f, refused_samples)) return;
-    if (!chain.accept(f)) {
-        wanted_whole.want(dds::from_wire(f.sector()));
-        return;
-    }
-    wanted_whole.got(dds::from_wire(f.sector()));
-    pending[f.frame()].push_back(std::move(f));
+    intake.take(std::move(f), newest_mark, dds::kClientFramesAhead);
 }
 
 void Client::State::say_ready() {
@@ -392,7 +381,7 @@ void Client::State::say_ready() {
     }
     if (!grid || workers_from.empty() || !first_state) return;
     for (const SectorKey& key : *first_state) {
-        if (!chain.holds(key, 0, ~std::uint64_t{0})) return;
+        if (!intake.chain().holds(key, 0, ~std::uint64_t{0})) return;
     }
     // Matched here is not matched there either: a writer that has not matched this reader yet sends it
     // nothing, and its history keeps eight frames. A worker's hello, in its writer's history, shows that
@@ -474,15 +463,10 @@ void Client::State::ask_for_whole_sectors() {
     if (!synced) return;
     if (!unconfirmed.empty() && std::chrono::steady_clock::now() - synced_at > std::chrono::seconds(1)) {
         for (const SectorKey& key : unconfirmed) {
-            if (!chain.holds(key, stamps.at(key), ~std::uint64_t{0})) wanted_whole.want(key);
+            if (!intake.chain().holds(key, stamps.at(key), ~std::uint64_t{0})) intake.want_whole(key);
         }
     }
-    wire::SectorRequest request;
-    request.sectors(wanted_whole.due(std::chrono::steady_clock::now()));
-    if (request.sectors().empty()) return;
-    request.reader(options.name);
-    request.request(next_sector_request++);
-    requests_out->write(request);
+    if (auto request = intake.whole_request(options.name, next_sector_request)) requests_out->write(*request);
 }
 
 void Client::State::ask_for_lost(const std::set<SectorKey>& missing) {
@@ -493,7 +477,7 @@ void Client::State::ask_for_lost(const std::set<SectorKey>& missing) {
     constexpr std::chrono::milliseconds kLostAfter{250};
     if (!synced || std::chrono::steady_clock::now() - std::max(last_progress, synced_at) < kLostAfter) return;
     for (const SectorKey& key : missing)
-        wanted_whole.want(key);
+        intake.want_whole(key);
 }
 
 bool Client::State::sync() {
@@ -570,14 +554,8 @@ void Client::State::forget_unlisted() {
     // sample that emptied it can be gone from DDS's history while older ones of it (the coordinator's first
     // state, a previous owner's last) are still there. Those, and whatever the mirror holds of such a sector
     // from before a resync, are dropped.
-    for (auto it = pending.begin(); it != pending.end() && it->first <= applied; ++it) {
-        std::vector<wire::SectorFrame>& samples = it->second;
-        samples.erase(std::remove_if(samples.begin(), samples.end(),
-                                     [&](const wire::SectorFrame& f) {
-                                         return !stamps.count(dds::from_wire(f.sector()));
-                                     }),
-                      samples.end());
-    }
+    intake.drop_queued(applied,
+                       [&](const wire::SectorFrame& f) { return !stamps.count(dds::from_wire(f.sector())); });
     std::vector<SectorKey> empty;
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (!stamps.count(key)) empty.push_back(key);
@@ -641,7 +619,7 @@ bool Client::State::stamp_frame(std::uint64_t frame, std::map<SectorKey, std::ui
 
 bool Client::State::inventories_held() const {
     for (const SectorKey& key : unconfirmed) {
-        if (!chain.holds(key, stamps.at(key), ~std::uint64_t{0})) return false;
+        if (!intake.chain().holds(key, stamps.at(key), ~std::uint64_t{0})) return false;
     }
     return true;
 }
@@ -653,7 +631,7 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
     bool held = true;
     // Whether the sector is held as of `from` at `frame`; noted as missing if not.
     auto holds = [&](const SectorKey& key, std::uint64_t from) {
-        if (chain.holds(key, from, frame)) return true;
+        if (intake.chain().holds(key, from, frame)) return true;
         held = false;
         if (missing) missing->insert(key);
         return missing != nullptr;  // go on only to collect
@@ -687,12 +665,7 @@ bool Client::State::complete(std::uint64_t frame, const std::map<SectorKey, std:
 }
 
 void Client::State::apply_until(std::uint64_t frame) {
-    std::vector<const wire::SectorFrame*> batch;
-    const auto end = pending.upper_bound(frame);
-    for (auto it = pending.begin(); it != end; ++it) {
-        for (const wire::SectorFrame& f : it->second)
-            batch.push_back(&f);
-    }
+    const std::vector<const wire::SectorFrame*> batch = intake.through(frame);
     if (options.content == FrameContent::changes) {
         for (const wire::SectorFrame* sample : batch) {
             const SectorKey key = dds::from_wire(sample->sector());
@@ -701,9 +674,7 @@ void Client::State::apply_until(std::uint64_t frame) {
         }
     }
     mirror.apply(batch, options.content == FrameContent::changes ? &left : nullptr);
-    pending.erase(pending.begin(), end);
-    chain.forget_applied(frame);
-    owners.applied(frame, refused_samples);
+    intake.applied(frame);
 }
 
 BodyView Client::State::view_of(const SectorKey& key, const wire::BodyState& state) const {

@@ -28,7 +28,7 @@ lpss/commands lpss/command_results lpss/sector_requests lpss/status lpss/frame_a
 publishes() {
     case $1 in
     coordinator) echo "lpss/sector_frames lpss/body_descriptions lpss/sector_owners lpss/worker_frames lpss/frame_go
-lpss/command_results lpss/status lpss/frame_acks" ;;
+lpss/command_results lpss/status lpss/frame_acks lpss/sector_requests" ;;
     worker) echo "lpss/sector_frames lpss/worker_frames lpss/command_results lpss/sector_requests" ;;
     observer) echo "lpss/sector_requests" ;;
     operator) echo "lpss/sector_requests lpss/commands" ;;

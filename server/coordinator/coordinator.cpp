@@ -43,6 +43,7 @@ Coordinator::~Coordinator() {
     state_->sectors_out.reset();
     state_->first_state_out.reset();
     state_->status_out.reset();
+    state_->requests_out.reset();
     state_->marks_in.reset();
     state_->commands_in.reset();
     state_->sectors_in.reset();
@@ -111,6 +112,8 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
                                                                              writer_qos(kFirstStateDelivery));
     state->status_out = std::make_unique<Writer<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), writer_qos(kStateDelivery));
+    state->requests_out = std::make_unique<Writer<wire::SectorRequest>>(
+        p, p.topic<wire::SectorRequestPubSubType>(kSectorRequests), writer_qos(kCommandDelivery));
     state->status_in = std::make_unique<Reader<wire::ClusterStatus>>(
         p, p.topic<wire::ClusterStatusPubSubType>(kStatus), reader_qos(kStateDelivery), &state->inbox);
     state->marks_in =
@@ -127,6 +130,16 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
         !state->sectors_in->ok() || !state->go_in->ok() || !state->acks_in->ok()) {
         return Error{"cannot create the coordinator's DDS readers and writers" +
                      dds::refused_endpoints_hint(options.security)};
+    }
+    if (!state->requests_out->ok()) {
+        // Not fatal: the copy of the world then mends a sector that lost its base only when its owner next
+        // sends it whole.
+        spdlog::warn(
+            "coordinator {}: cannot write on lpss/sector_requests (an identity made before 2026-12-06 "
+            "does not grant it: make it again with deploy/security/identities.sh); sectors whose "
+            "samples lose their base are not asked for whole",
+            options.id);
+        state->requests_out.reset();
     }
     // Beats within the lease, as workers' marks: a standby takes over when the coordinator's lapse.
     state->marks_beat = std::make_unique<LivelinessBeat>(state->marks_out->raw(), beat_period(kWorkerMarks));
@@ -189,7 +202,9 @@ int Coordinator::State::take_sector_samples(std::uint64_t at_most) {
         }
         take_sample(std::move(f));
     };
-    return sectors_in->take_all(each, at_most);
+    const int taken = sectors_in->take_all(each, at_most);
+    ask_for_whole_sectors();
+    return taken;
 }
 
 void Coordinator::State::pump(bool with_samples) {
@@ -371,30 +386,31 @@ void Coordinator::State::await_acknowledgement(std::uint64_t f, std::chrono::mic
 }
 
 void Coordinator::State::take_sample(wire::SectorFrame f) {
-    if (std::string why = dds::implausible(f, frame); !why.empty()) return refused_samples.refuse(why);
-    if (!owners.admit(f, refused_samples)) return;
-    if (chain.accept(f)) samples[f.frame()].push_back(std::move(f));
+    const std::uint64_t frame_of = f.frame();
+    if (intake.take(std::move(f), frame, dds::kFramesAhead) == dds::SampleIntake::Taken::without_base)
+        spdlog::warn("coordinator {}: sector sample of frame {} without its base: asked for whole",
+                     options.id, frame_of);
+}
+
+void Coordinator::State::ask_for_whole_sectors() {
+    if (!requests_out) return;
+    if (auto request =
+            intake.whole_request("lpss-coordinator-" + std::to_string(options.id), next_whole_request))
+        requests_out->write(*request);
 }
 
 void Coordinator::State::publish_assignment() {
     assignment_out->write(assignment_on_wire());
-    for (wire::SectorFrame& f : owners.learn(next))
+    for (wire::SectorFrame& f : intake.learn(next))
         take_sample(std::move(f));
 }
 
 void Coordinator::State::take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also) {
-    std::vector<const wire::SectorFrame*> batch;
-    const auto end = samples.upper_bound(up_to);
-    for (auto it = samples.begin(); it != end; ++it) {
-        for (const wire::SectorFrame& f : it->second)
-            batch.push_back(&f);
-    }
+    std::vector<const wire::SectorFrame*> batch = intake.through(up_to);
     for (const wire::SectorFrame& f : also)
         batch.push_back(&f);
     mirror.apply(batch);
-    samples.erase(samples.begin(), end);
-    chain.forget_applied(up_to);
-    owners.applied(up_to, refused_samples);
+    intake.applied(up_to);
 }
 
 Status Coordinator::State::check_not_replaced() {

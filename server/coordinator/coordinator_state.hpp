@@ -23,8 +23,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/participant.hpp"
 #include "lpss_dds/sample_check.hpp"
-#include "lpss_dds/sample_owners.hpp"
-#include "lpss_dds/sector_chain.hpp"
+#include "lpss_dds/sample_intake.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "standing_commands.hpp"
 #include "start_acknowledger.hpp"
@@ -84,6 +83,7 @@ struct Coordinator::State {
         return slots.try_emplace(key, static_cast<std::uint32_t>(slots.size())).first->second;
     }
     std::unique_ptr<dds::Writer<wire::ClusterStatus>> status_out;
+    std::unique_ptr<dds::Writer<wire::SectorRequest>> requests_out;  ///< sectors it wants whole
     std::unique_ptr<dds::Reader<wire::WorkerFrame>> marks_in;
     std::unique_ptr<dds::Reader<wire::Command>> commands_in;
     std::unique_ptr<dds::Reader<wire::SectorFrame>> sectors_in;
@@ -158,10 +158,13 @@ struct Coordinator::State {
     /// The world as the workers last published it (plus in-flight handoffs): what a worker that is gone
     /// leaves behind, restored to the workers that take its sectors over.
     dds::SectorMirror mirror;
-    dds::SectorChain chain;
-    dds::RefusedSamples refused_samples{"coordinator"};
-    dds::SampleOwners owners;  ///< whose samples are whose to write, by the assignments announced
-    std::map<std::uint64_t, std::vector<wire::SectorFrame>> samples;  ///< received, by frame
+    /// The sector samples read, checked and queued by frame until take_samples applies them to the mirror.
+    dds::SampleIntake intake{"coordinator"};
+    std::uint64_t next_whole_request = 1;
+    /// Asks the sectors' owners for the sectors whose partial samples came without their base (lost on a
+    /// loaded machine): until a whole sample comes the mirror holds them stale, and a worker gone meanwhile
+    /// would be restored from them.
+    void ask_for_whole_sectors();
 
     SectorAssignment current;
     SectorAssignment next;
@@ -259,11 +262,12 @@ struct Coordinator::State {
     /// `with_samples` is false, sector samples (take_sector_samples).
     void pump(bool with_samples = true);
     /// Takes the sector samples that have come (at most `at_most`), each checked and queued for its frame
-    /// (take_sample). Returns how many were taken.
+    /// (take_sample), and asks for the sectors wanted whole. Returns how many were taken.
     int take_sector_samples(std::uint64_t at_most = ~std::uint64_t{0});
     /// Waits, at most `patience`, until the standby (if one is named) acknowledges frame f's start.
     void await_acknowledgement(std::uint64_t f, std::chrono::microseconds patience);
-    /// A sector sample read: checked, then queued for its frame (or refused, or held by `owners`).
+    /// A sector sample read: checked, then queued for its frame (or refused, or held until its epoch is
+    /// known, or its sector wanted whole: dds::SampleIntake).
     void take_sample(wire::SectorFrame f);
     /// Applies the samples received up to a frame (and `also`, of that frame) to the copy of the world.
     void take_samples(std::uint64_t up_to, const std::vector<wire::SectorFrame>& also = {});

@@ -44,7 +44,7 @@ bool Coordinator::State::holds_samples_of(std::uint32_t w, std::uint64_t f) cons
     auto mark = marks.find({w, f});
     if (mark == marks.end()) return false;
     for (const wire::WrittenSector& written : mark->second.written()) {
-        if (!chain.holds(dds::from_wire(written.sector()), f, ~std::uint64_t{0})) return false;
+        if (!intake.chain().holds(dds::from_wire(written.sector()), f, ~std::uint64_t{0})) return false;
     }
     return true;
 }
@@ -351,7 +351,7 @@ void Coordinator::State::send_restored(std::uint64_t f, const SectorAssignment& 
         bodies += sample.bodies().size();
         sample.slot(slot_of(key));
         sectors_out->write(sample);
-        chain.accept(sample);
+        intake.wrote(sample);
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());

@@ -95,7 +95,7 @@ Expected<std::uint64_t> Coordinator::State::follow(const std::atomic<bool>& stop
             if (go.frame() == 1) {
                 bool held = first_state.has_value();
                 for (std::size_t n = 0; held && n < first_state->size(); ++n)
-                    held = chain.holds((*first_state)[n], 0, ~std::uint64_t{0});
+                    held = intake.chain().holds((*first_state)[n], 0, ~std::uint64_t{0});
                 if (!held) break;
             }
             frame = go.frame();

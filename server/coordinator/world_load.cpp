@@ -131,7 +131,7 @@ Status Coordinator::State::load_and_seed(const std::atomic<bool>& stop) {
         radii.clear();
         first_state_out->write(sample);
         mirror.apply({&sample});
-        chain.accept(sample);  // the base of the workers' first samples of the sector
+        intake.wrote(sample);  // the base of the workers' first samples of the sector
         wire::WrittenSector entry;
         entry.sector(sample.sector());
         entry.recipients(sample.recipients());

@@ -166,7 +166,7 @@ void Worker::State::pump() {
         if (!world && m.frame() > 0) heard.insert(m.worker());
     });
     frames_in->take_all([&](wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
-        if (info.valid_data) intake.take(std::move(f), known_frame(), frames_ahead());
+        if (info.valid_data) take_sample(std::move(f));
     });
     ask_for_whole_sectors();
 }
@@ -183,17 +183,23 @@ std::uint64_t Worker::State::frames_ahead() const {
     return world ? dds::kFramesAhead : dds::kClientFramesAhead;
 }
 
+void Worker::State::take_sample(wire::SectorFrame f) {
+    if (f.worker() == options.id) return;
+    const std::uint64_t frame_of = f.frame();
+    // Not applied: the sector is asked for whole (ask_for_whole_sectors), as clients do, or it would stay
+    // broken until its owner sent it whole for some other reason.
+    if (intake.take(std::move(f), known_frame(), frames_ahead()) == dds::SampleIntake::Taken::without_base)
+        spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, frame_of);
+}
+
 void Worker::State::learn(const SectorAssignment& assignment) {
-    intake.learn(assignment, known_frame(), frames_ahead());
+    for (wire::SectorFrame& f : intake.learn(assignment))
+        take_sample(std::move(f));
 }
 
 void Worker::State::ask_for_whole_sectors() {
-    wire::SectorRequest request;
-    request.sectors(intake.whole_due());
-    if (request.sectors().empty()) return;
-    request.reader("lpss-worker-" + std::to_string(options.id));
-    request.request(++whole_requests);
-    requests_out->write(request);
+    if (auto request = intake.whole_request("lpss-worker-" + std::to_string(options.id), next_whole_request))
+        requests_out->write(*request);
 }
 
 void Worker::State::apply_samples(std::uint64_t up_to,

@@ -23,8 +23,8 @@
 #include "lpss/engine/world.hpp"
 #include "lpssPubSubTypes.h"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/sample_intake.hpp"
 #include "lpss_dds/sector_publisher.hpp"
-#include "sample_intake.hpp"
 #include "worker.hpp"
 
 namespace lpss::worker {
@@ -33,7 +33,11 @@ using Clock = std::chrono::steady_clock;
 
 struct Worker::State {
     explicit State(const WorkerOptions& o)
-        : options(o), gate(o.id), halo(o.id), intake(o.id), coordinators(o.id) {}
+        : options(o),
+          gate(o.id),
+          halo(o.id),
+          intake("worker " + std::to_string(o.id), true),
+          coordinators(o.id) {}
 
     WorkerOptions options;
     std::unique_ptr<dds::Participant> participant;
@@ -61,13 +65,17 @@ struct Worker::State {
     std::uint64_t frame_started_ns = 0;  ///< the FrameGo's, passed on in the mark
     double time_lost = 0.0;
 
-    SampleIntake intake;
-    std::uint64_t whole_requests = 0;
+    /// The other writers' sector samples, checked and queued by frame until the frame after theirs starts
+    /// here and applies them to the halo: a faster worker's future must not leak into a frame.
+    dds::SampleIntake intake;
+    /// A sector sample read from another writer (its own do not come back to it).
+    void take_sample(wire::SectorFrame f);
+    std::uint64_t next_whole_request = 1;
     void ask_for_whole_sectors();
-    /// The latest frame known here, and how far past it a sample may be (SampleIntake::take).
+    /// The latest frame known here, and how far past it a sample may be (dds::SampleIntake::take).
     std::uint64_t known_frame() const;
     std::uint64_t frames_ahead() const;
-    /// Takes note of an assignment announced (SampleIntake::learn).
+    /// Takes note of an assignment announced (dds::SampleIntake::learn).
     void learn(const SectorAssignment& assignment);
     std::map<BodyId, std::pair<std::uint64_t, BodyDesc>>
         early_planes;         ///< before the world exists: rank, plane

@@ -536,6 +536,84 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
         EXPECT_NE(text.find("never came"), std::string::npos) << log;
     }
 }
+TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
+    // The coordinators' copy of the world is what a gone worker's sectors are restored from: a partial
+    // sample whose base they lack (lost on a loaded machine) must be mended as workers and clients mend
+    // it, by asking the owner for the sector whole, not dropped and the sector left stale. A peer stands
+    // in for the loss: it writes, as the owner of the sector where the spheres meet, a partial sample
+    // whose base no reader holds. Every reader refuses it and asks; the world runs as lpss-sim runs it.
+    const int domain = 193;
+    const testing::DomainCleanup cleanup(domain);
+    const std::string path = write_scene(crossing_scene(), "without_base");
+    constexpr int kFrames = 150;
+    auto sim = run_sim(path, kFrames);
+    ASSERT_EQ(sim.size(), kFrames + 1u);
+    auto client = connect(domain, "without-base");
+    auto peer = dds::Participant::create(domain, "", "a-peer-losing-a-base");
+    ASSERT_TRUE(peer.ok());
+    dds::Writer<wire::SectorFrame> forged_out((*peer)->sector_publisher(),
+                                              (*peer)->topic<wire::SectorFramePubSubType>(dds::kSectorFrames),
+                                              dds::writer_qos(dds::kSectorFrameDelivery));
+    dds::Reader<wire::Assignment> assignments(**peer,
+                                              (*peer)->topic<wire::AssignmentPubSubType>(dds::kSectorOwners),
+                                              dds::reader_qos(dds::kAssignmentDelivery), nullptr);
+    dds::Reader<wire::SectorRequest> requests(
+        **peer, (*peer)->topic<wire::SectorRequestPubSubType>(dds::kSectorRequests),
+        dds::reader_qos(dds::kCommandDelivery), nullptr);
+    // The frames started: a sample must be newer than what the coordinators hold of its sector, and no
+    // further ahead than the frame after the one started, or it is stale or implausible to them.
+    dds::Reader<wire::FrameGo> starts(**peer, (*peer)->topic<wire::FrameGoPubSubType>(dds::kFrameGo),
+                                      dds::reader_qos(dds::kCoordinatorWords), nullptr);
+    ASSERT_TRUE(forged_out.ok() && assignments.ok() && requests.ok() && starts.ok());
+    auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
+    ASSERT_TRUE(cluster.process);
+    const SectorKey met{0, 0, 0};
+    std::optional<SectorAssignment> in_force;
+    std::map<std::uint64_t, WorldFrame> frames;
+    std::set<std::string> askers;  ///< readers that asked for `met` whole
+    std::uint64_t started = 0;
+    int forged = 0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(90);
+    while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < kFrames)) {
+        std::vector<WorldFrame> got = client->poll(std::chrono::milliseconds(10));
+        for (WorldFrame& f : got)
+            frames[f.frame] = std::move(f);
+        assignments.take_all([&](const wire::Assignment& a, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) in_force = dds::from_wire(a);
+        });
+        starts.take_all([&](const wire::FrameGo& go, const dds::fdds::SampleInfo& info) {
+            if (info.valid_data) started = std::max(started, go.frame());
+        });
+        requests.take_all([&](const wire::SectorRequest& r, const dds::fdds::SampleInfo& info) {
+            if (!info.valid_data) return;
+            for (const wire::SectorKey& key : r.sectors())
+                if (dds::from_wire(key) == met) askers.insert(r.reader());
+        });
+        // Once, a third of the way in, when the frames are known.
+        if (forged > 0 || !in_force || started < kFrames / 3) continue;
+        const std::uint64_t now = started + 1;
+        wire::SectorFrame f;
+        f.sector(dds::to_wire(met));
+        f.worker(in_force->owner_of(met));
+        f.epoch(in_force->epoch);
+        f.frame(now);
+        f.base(now);  // a partial sample on a state of the same frame: no reader can hold it
+        f.complete(false);
+        f.recipients({1, 2});
+        forged_out.write(f);
+        ++forged;
+    }
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    ASSERT_EQ(forged, 1);
+    EXPECT_EQ(askers.count("lpss-coordinator-1"), 1u) << "the coordinator asked for the sector whole";
+    EXPECT_EQ(askers.count("lpss-coordinator-2"), 1u) << "so did the standby";
+    EXPECT_EQ(askers.count("without-base"), 1u) << "so did the client";
+    const std::string log = read_file(cluster.log_dir + "/coordinator.log");
+    EXPECT_NE(log.find("without its base: asked for whole"), std::string::npos) << log;
+    double worst = 0.0;
+    ASSERT_EQ(against_sim(frames, sim, worst), "");
+    EXPECT_LE(worst, 1e-3);
+}
 TEST(Cluster, TwoWorkersMatchLpssSim) { compare_with_sim(2, 121); }
 TEST(Cluster, ThreeWorkersMatchLpssSim) { compare_with_sim(3, 122); }
 

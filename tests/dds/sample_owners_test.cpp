@@ -5,30 +5,21 @@
 #include <gtest/gtest.h>
 
 #include "lpss_dds/convert.hpp"
+#include "two_sector_samples.hpp"
 
 namespace lpss::dds {
 namespace {
 
-const SectorKey kWest{0, 0, 0};
-const SectorKey kEast{10, 0, 0};
+using testing::kEast;
+using testing::kWest;
 
 SectorAssignment assignment(std::uint32_t epoch, std::uint64_t from_frame) {
-    SectorAssignment a = SectorAssignment::balanced({{kWest, 1.0}, {kEast, 1.0}}, {1, 2}, 1);
-    a.epoch = epoch;
-    a.from_frame = from_frame;
-    return a;
+    return testing::two_sector_assignment(epoch, from_frame);
 }
 
 wire::SectorFrame sample(const SectorKey& key, std::uint64_t frame, std::uint32_t worker,
                          std::uint32_t epoch) {
-    wire::SectorFrame s;
-    s.sector(to_wire(key));
-    s.frame(frame);
-    s.base(frame);
-    s.complete(true);
-    s.worker(worker);
-    s.epoch(epoch);
-    return s;
+    return testing::empty_sample(key, frame, worker, epoch);
 }
 
 TEST(SampleOwners, OnlyTheOwnerUnderTheEpochInForceIsTakenIn) {
