@@ -50,8 +50,8 @@ struct Client::State {
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, BodyId> plane_instances;
     /// The sector samples read: checked, judged by the assignments (which worker owns which sectors, and
     /// so writes their samples), chained, and kept by frame until shown.
-    dds::SampleIntake intake{"client"};
-    dds::SectorMirror mirror;  ///< the sectors as of the last frame applied
+    dds::SampleIntake intake{"client", "client"};  ///< named by connect()
+    dds::SectorMirror mirror;                      ///< the sectors as of the last frame applied
     std::uint64_t next_sector_request = 1;
 
     /// What a worker said at the end of a frame: the sectors it wrote (that this client follows), how many
@@ -151,7 +151,8 @@ struct Client::State {
     static constexpr std::size_t kMostOutcomes = 4096;
     std::uint64_t send(wire::Command command);
     void ask_for_whole_sectors();
-    /// A sector sample read: checked, then kept for its frame (or refused, or held by `owners`).
+    /// A sector sample read: checked, then kept for its frame (or refused, or held until its epoch is known,
+    /// or its sector wanted whole: dds::SampleIntake).
     void take_sample(wire::SectorFrame f);
     /// Sectors a frame has waited for since kLostAfter without a frame shown: their samples are asked for
     /// whole (their owners answer in their next frame, an emptied sector with an empty sample).
@@ -203,6 +204,7 @@ Expected<std::unique_ptr<Client>> Client::connect(const ClientOptions& options) 
     if (options.name.empty()) return Error{"a client needs a name (its commands carry it)"};
     auto state = std::make_unique<State>();
     state->options = options;
+    state->intake = dds::SampleIntake("client", options.name);
     Expected<std::unique_ptr<dds::Participant>> participant = dds::Participant::create(
         options.domain, options.profile, "lpss-client-" + options.name, {}, options.security);
     if (!participant) return participant.error();
@@ -466,7 +468,7 @@ void Client::State::ask_for_whole_sectors() {
             if (!intake.chain().holds(key, stamps.at(key), ~std::uint64_t{0})) intake.want_whole(key);
         }
     }
-    if (auto request = intake.whole_request(options.name, next_sector_request)) requests_out->write(*request);
+    if (auto request = intake.whole_request(next_sector_request)) requests_out->write(*request);
 }
 
 void Client::State::ask_for_lost(const std::set<SectorKey>& missing) {

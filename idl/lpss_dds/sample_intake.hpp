@@ -36,10 +36,11 @@ public:
         without_base,  ///< partial, its base missing: its sector is now wanted whole
     };
 
-    /// `reader` names the reader in the log and in its refusals ("worker 3", "coordinator", "client").
-    /// With `count_bytes`, the serialized bytes of the samples taken are summed by frame.
-    explicit SampleIntake(std::string reader, bool count_bytes = false)
-        : reader_(reader), refused_(std::move(reader)), count_bytes_(count_bytes) {}
+    /// `reader` names the reader in its refusals' log lines ("worker 3", "coordinator", "client"), `asker`
+    /// in its requests for whole sectors (SectorRequest::reader, "lpss-worker-3"). With `count_bytes`, the
+    /// serialized bytes of the samples taken are summed by frame.
+    SampleIntake(std::string reader, std::string asker, bool count_bytes = false)
+        : asker_(std::move(asker)), refused_(std::move(reader)), count_bytes_(count_bytes) {}
 
     /// A sample read. `known`: the latest frame started or announced to the reader; `ahead`: how far past
     /// it a sample may be.
@@ -49,15 +50,16 @@ public:
     std::vector<wire::SectorFrame> learn(const SectorAssignment& assignment) {
         return owners_.learn(assignment);
     }
-    /// A sample the reader wrote itself (its own samples do not come back to it): its chain moves on.
+    /// A sample the reader wrote itself (its own samples do not come back to it): its chain moves on. A
+    /// sector wanted whole stays wanted: what the reader wrote is what it held, not what the owner holds.
     void wrote(const wire::SectorFrame& sample) { chain_.accept(sample); }
 
     /// The sectors to ask for whole now: partial samples refused, or wanted by the reader (want_whole),
     /// each at most every 100 ms until a usable sample comes. Empty if none.
     std::vector<wire::SectorKey> whole_due() { return wanted_whole_.due(std::chrono::steady_clock::now()); }
-    /// A request, as `reader`, for the sectors due whole (whole_due), numbered `next_number` (then counted
-    /// on: request numbers increase per reader); none if none is due.
-    std::optional<wire::SectorRequest> whole_request(const std::string& reader, std::uint64_t& next_number);
+    /// A request for the sectors due whole (whole_due), numbered `next_number` (then counted on: request
+    /// numbers increase per reader, and a client numbers its inventory requests alike); none if none is due.
+    std::optional<wire::SectorRequest> whole_request(std::uint64_t& next_number);
     /// The reader wants `key` whole for a reason of its own (a sample lost in flight, an inventory's).
     void want_whole(const SectorKey& key) { wanted_whole_.want(key); }
 
@@ -88,7 +90,7 @@ public:
     void start_over(std::uint64_t floor);
 
 private:
-    std::string reader_;
+    std::string asker_;
     std::uint64_t floor_ = 0;
     std::map<std::uint64_t, std::vector<wire::SectorFrame>> queued_;  ///< by frame
     SectorChain chain_;

@@ -1,7 +1,7 @@
 // The sectors a reader wants whole: their partial samples were refused (SectorChain: the base was lost),
 // and only a complete sample mends them. They are asked for on lpss/sector_requests, each at most every
 // 100 ms until a usable sample comes (a request can be lost, and the owner answers in its next frame).
-// Clients and workers ask alike.
+// Clients, workers and the coordinators ask alike (SampleIntake).
 #pragma once
 
 #include <chrono>

@@ -25,13 +25,12 @@ SampleIntake::Taken SampleIntake::take(wire::SectorFrame f, std::uint64_t known,
     return Taken::queued;
 }
 
-std::optional<wire::SectorRequest> SampleIntake::whole_request(const std::string& reader,
-                                                               std::uint64_t& next_number) {
+std::optional<wire::SectorRequest> SampleIntake::whole_request(std::uint64_t& next_number) {
     std::vector<wire::SectorKey> due = whole_due();
     if (due.empty()) return std::nullopt;
     wire::SectorRequest request;
     request.sectors(std::move(due));
-    request.reader(reader);
+    request.reader(asker_);
     request.request(next_number++);
     return request;
 }

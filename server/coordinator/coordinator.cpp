@@ -61,6 +61,7 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
     if (options.block_size < 1) return Error{"block size must be at least 1"};
     auto state = std::make_unique<State>();
     state->options = options;
+    state->intake = dds::SampleIntake("coordinator", "lpss-coordinator-" + std::to_string(options.id));
     state->command_rate = CommandRate(options.command_rate);
     Expected<std::unique_ptr<dds::Participant>> participant =
         dds::Participant::create(options.domain, options.profile, "lpss-coordinator", {}, options.security);
@@ -386,17 +387,17 @@ void Coordinator::State::await_acknowledgement(std::uint64_t f, std::chrono::mic
 }
 
 void Coordinator::State::take_sample(wire::SectorFrame f) {
-    const std::uint64_t frame_of = f.frame();
-    if (intake.take(std::move(f), frame, dds::kFramesAhead) == dds::SampleIntake::Taken::without_base)
-        spdlog::warn("coordinator {}: sector sample of frame {} without its base: asked for whole",
-                     options.id, frame_of);
+    intake.take(std::move(f), frame, dds::kFramesAhead);
 }
 
 void Coordinator::State::ask_for_whole_sectors() {
     if (!requests_out) return;
-    if (auto request =
-            intake.whole_request("lpss-coordinator-" + std::to_string(options.id), next_whole_request))
+    if (auto request = intake.whole_request(next_whole_request)) {
+        // Each sector at most every 100 ms (whole_due): a line per request does not flood the log.
+        spdlog::warn("coordinator {}: asks for {} sector(s) whole: their samples came without their base",
+                     options.id, request->sectors().size());
         requests_out->write(*request);
+    }
 }
 
 void Coordinator::State::publish_assignment() {

@@ -159,7 +159,7 @@ struct Coordinator::State {
     /// leaves behind, restored to the workers that take its sectors over.
     dds::SectorMirror mirror;
     /// The sector samples read, checked and queued by frame until take_samples applies them to the mirror.
-    dds::SampleIntake intake{"coordinator"};
+    dds::SampleIntake intake{"coordinator", "lpss-coordinator"};  ///< named with its id by create()
     std::uint64_t next_whole_request = 1;
     /// Asks the sectors' owners for the sectors whose partial samples came without their base (lost on a
     /// loaded machine): until a whole sample comes the mirror holds them stale, and a worker gone meanwhile

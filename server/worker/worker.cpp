@@ -198,8 +198,7 @@ void Worker::State::learn(const SectorAssignment& assignment) {
 }
 
 void Worker::State::ask_for_whole_sectors() {
-    if (auto request = intake.whole_request("lpss-worker-" + std::to_string(options.id), next_whole_request))
-        requests_out->write(*request);
+    if (auto request = intake.whole_request(next_whole_request)) requests_out->write(*request);
 }
 
 void Worker::State::apply_samples(std::uint64_t up_to,

@@ -36,7 +36,7 @@ struct Worker::State {
         : options(o),
           gate(o.id),
           halo(o.id),
-          intake("worker " + std::to_string(o.id), true),
+          intake("worker " + std::to_string(o.id), "lpss-worker-" + std::to_string(o.id), true),
           coordinators(o.id) {}
 
     WorkerOptions options;
@@ -68,7 +68,8 @@ struct Worker::State {
     /// The other writers' sector samples, checked and queued by frame until the frame after theirs starts
     /// here and applies them to the halo: a faster worker's future must not leak into a frame.
     dds::SampleIntake intake;
-    /// A sector sample read from another writer (its own do not come back to it).
+    /// A sector sample read. Its own are dropped: they come back only from an earlier run under its id, or
+    /// from a peer that claims to be it.
     void take_sample(wire::SectorFrame f);
     std::uint64_t next_whole_request = 1;
     void ask_for_whole_sectors();

@@ -540,8 +540,10 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
     // The coordinators' copy of the world is what a gone worker's sectors are restored from: a partial
     // sample whose base they lack (lost on a loaded machine) must be mended as workers and clients mend
     // it, by asking the owner for the sector whole, not dropped and the sector left stale. A peer stands
-    // in for the loss: it writes, as the owner of the sector where the spheres meet, a partial sample
-    // whose base no reader holds. Every reader refuses it and asks; the world runs as lpss-sim runs it.
+    // in for the loss: it writes, as the owner of the sector where the spheres meet, partial samples whose
+    // base no reader can hold (their own frame). The coordinator and the standby refuse them and ask for
+    // that sector whole. The real chain is not broken by them, so the world must run as lpss-sim runs it:
+    // a refused sample changes nothing.
     const int domain = 193;
     const testing::DomainCleanup cleanup(domain);
     const std::string path = write_scene(crossing_scene(), "without_base");
@@ -572,6 +574,7 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
     std::map<std::uint64_t, WorldFrame> frames;
     std::set<std::string> askers;  ///< readers that asked for `met` whole
     std::uint64_t started = 0;
+    std::uint64_t forged_at = 0;  ///< the frame started when the last was forged
     int forged = 0;
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(90);
     while (std::chrono::steady_clock::now() < end && (frames.empty() || frames.rbegin()->first < kFrames)) {
@@ -589,9 +592,14 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
             for (const wire::SectorKey& key : r.sectors())
                 if (dds::from_wire(key) == met) askers.insert(r.reader());
         });
-        // Once, a third of the way in, when the frames are known.
-        if (forged > 0 || !in_force || started < kFrames / 3) continue;
+        // From a third of the way in, one for each frame started until both coordinators have asked: the
+        // owner's own sample of the frame, taken in the same batch after it, mends the sector before the
+        // batch's end, and a forged sample that comes after the frame's own is stale: both make no ask.
+        if (!in_force || started < kFrames / 3 || started <= forged_at || forged >= 40 ||
+            (askers.count("lpss-coordinator-1") && askers.count("lpss-coordinator-2")))
+            continue;
         const std::uint64_t now = started + 1;
+        forged_at = started;
         wire::SectorFrame f;
         f.sector(dds::to_wire(met));
         f.worker(in_force->owner_of(met));
@@ -604,12 +612,12 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
         ++forged;
     }
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
-    ASSERT_EQ(forged, 1);
+    ASSERT_GE(forged, 1);
+    std::printf("%d sample(s) forged before both coordinators asked\n", forged);
     EXPECT_EQ(askers.count("lpss-coordinator-1"), 1u) << "the coordinator asked for the sector whole";
     EXPECT_EQ(askers.count("lpss-coordinator-2"), 1u) << "so did the standby";
-    EXPECT_EQ(askers.count("without-base"), 1u) << "so did the client";
     const std::string log = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(log.find("without its base: asked for whole"), std::string::npos) << log;
+    EXPECT_NE(log.find("sector(s) whole: their samples came without their base"), std::string::npos) << log;
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "");
     EXPECT_LE(worst, 1e-3);

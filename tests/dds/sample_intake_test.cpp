@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "lpss_dds/convert.hpp"
@@ -55,7 +56,7 @@ std::vector<std::uint64_t> frames_of(const std::vector<const wire::SectorFrame*>
 }
 
 TEST(SampleIntake, APartialSampleWithoutItsBaseWantsItsSectorWholeUntilAWholeOneComes) {
-    SampleIntake intake("test");
+    SampleIntake intake("test", "tester");
     intake.learn(assignment(1, 1));
     const std::uint32_t west = assignment(1, 1).owner_of(kWest);
     EXPECT_EQ(intake.take(whole(kWest, 10, west), 10, kFramesAhead), Taken::queued);
@@ -77,7 +78,7 @@ TEST(SampleIntake, APartialSampleWithoutItsBaseWantsItsSectorWholeUntilAWholeOne
 }
 
 TEST(SampleIntake, TheImplausibleAndTheForeignAreRefusedAndTheStaleDropped) {
-    SampleIntake intake("test");
+    SampleIntake intake("test", "tester");
     intake.learn(assignment(1, 1));
     const std::uint32_t west = assignment(1, 1).owner_of(kWest);
     const std::uint32_t east = assignment(1, 1).owner_of(kEast);
@@ -96,7 +97,7 @@ TEST(SampleIntake, TheImplausibleAndTheForeignAreRefusedAndTheStaleDropped) {
 }
 
 TEST(SampleIntake, SamplesAreQueuedByFrameUntilApplied) {
-    SampleIntake intake("test", true);
+    SampleIntake intake("test", "tester", true);
     intake.learn(assignment(1, 1));
     const std::uint32_t west = assignment(1, 1).owner_of(kWest);
     const std::uint32_t east = assignment(1, 1).owner_of(kEast);
@@ -107,7 +108,8 @@ TEST(SampleIntake, SamplesAreQueuedByFrameUntilApplied) {
     EXPECT_EQ(frames_of(intake.through(8)), (std::vector<std::uint64_t>{7, 8, 8}));
     ASSERT_NE(intake.of_frame(8), nullptr);
     EXPECT_EQ(intake.of_frame(8)->size(), 2u);
-    EXPECT_GT(intake.take_received_bytes(7), 0u);
+    EXPECT_EQ(intake.take_received_bytes(7), wire::SectorFrame::getCdrSerializedSize(whole(kWest, 7, west)));
+    EXPECT_EQ(intake.take_received_bytes(7), 0u) << "taken once";
     intake.drop_queued(8, [](const wire::SectorFrame& f) { return from_wire(f.sector()) == kEast; });
     EXPECT_EQ(frames_of(intake.through(8)), (std::vector<std::uint64_t>{7, 8}));
     intake.applied(7);
@@ -115,8 +117,37 @@ TEST(SampleIntake, SamplesAreQueuedByFrameUntilApplied) {
     EXPECT_EQ(intake.of_frame(7), nullptr);
 }
 
+TEST(SampleIntake, RequestsForWholeSectorsNameTheAskerAndCountOn) {
+    SampleIntake intake("test", "lpss-worker-9");
+    std::uint64_t next = 5;  // a client numbers its inventory requests with the same counter
+    EXPECT_FALSE(intake.whole_request(next)) << "nothing wanted";
+    EXPECT_EQ(next, 5u);
+    intake.want_whole(kEast);
+    intake.want_whole(kWest);
+    const std::optional<wire::SectorRequest> request = intake.whole_request(next);
+    ASSERT_TRUE(request);
+    EXPECT_EQ(request->reader(), "lpss-worker-9");
+    EXPECT_EQ(request->request(), 5u);
+    EXPECT_EQ(request->sectors().size(), 2u);
+    EXPECT_FALSE(request->inventory());
+    EXPECT_EQ(next, 6u);
+    EXPECT_FALSE(intake.whole_request(next)) << "asked again only after 100 ms";
+    EXPECT_EQ(intake.take_received_bytes(0), 0u);
+    EXPECT_EQ(intake.take(whole(kWest, 1, 1), 1, kFramesAhead), Taken::queued);
+    EXPECT_EQ(intake.take_received_bytes(1), 0u) << "bytes are counted only if asked for";
+}
+
+TEST(SampleIntake, WhatTheReaderWroteItselfCarriesItsChain) {
+    // The coordinator writes the world's first state, and a gone worker's sectors, itself: the workers'
+    // partial samples that follow are based on those.
+    SampleIntake intake("test", "tester");
+    intake.wrote(whole(kWest, 4, 0));
+    EXPECT_TRUE(intake.through(4).empty()) << "not queued: the reader holds it already";
+    EXPECT_EQ(intake.take(partial(kWest, 6, 4, 1), 6, kFramesAhead), Taken::queued);
+}
+
 TEST(SampleIntake, ASampleOfAnUnknownEpochIsGivenBackWhenItsAssignmentComes) {
-    SampleIntake intake("test");
+    SampleIntake intake("test", "tester");
     intake.learn(assignment(1, 1));
     const std::uint32_t west = assignment(2, 9).owner_of(kWest);
     EXPECT_EQ(intake.take(whole(kWest, 9, west, 2), 8, kFramesAhead), Taken::refused);
@@ -128,7 +159,7 @@ TEST(SampleIntake, ASampleOfAnUnknownEpochIsGivenBackWhenItsAssignmentComes) {
 }
 
 TEST(SampleIntake, StartingOverForgetsTheQueueAndRefusesHistory) {
-    SampleIntake intake("test");
+    SampleIntake intake("test", "tester");
     EXPECT_EQ(intake.take(whole(kWest, 3, 1), 3, kFramesAhead), Taken::queued);
     EXPECT_EQ(intake.take(partial(kEast, 3, 2, 1), 3, kFramesAhead), Taken::without_base);
     intake.start_over(20);
