@@ -173,6 +173,12 @@ std::pair<std::size_t, std::size_t> capture_a_run(int domain, const std::string&
                                : std::map<std::uint64_t, WorldFrame>{};
     EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
     EXPECT_FALSE(frames.empty()) << "the client saw no frame";
+    if (!identities.empty()) {
+        // The coordinator role may ask for sectors whole (identities.sh grants it): its writer was made.
+        const std::string log = read_file(cluster.log_dir + "/coordinator.log");
+        EXPECT_EQ(log.find("cannot write on lpss/sector_requests"), std::string::npos) << log;
+        EXPECT_NE(log.find("coordinator"), std::string::npos) << "no coordinator log in " << cluster.log_dir;
+    }
     bool plinth = false;
     if (!frames.empty()) {
         for (const BodyView& b : frames.rbegin()->second.bodies)
