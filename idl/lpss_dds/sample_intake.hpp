@@ -60,6 +60,8 @@ public:
     /// A request for the sectors due whole (whole_due), numbered `next_number` (then counted on: request
     /// numbers increase per reader, and a client numbers its inventory requests alike); none if none is due.
     std::optional<wire::SectorRequest> whole_request(std::uint64_t& next_number);
+    /// Whether `key` waits for a usable sample: what the reader holds of it may be stale.
+    bool wants_whole(const SectorKey& key) const { return wanted_whole_.wanted(key); }
     /// The reader wants `key` whole for a reason of its own (a sample lost in flight, an inventory's).
     void want_whole(const SectorKey& key) { wanted_whole_.want(key); }
 

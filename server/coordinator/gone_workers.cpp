@@ -105,6 +105,15 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
                 w, f, going_why.why, going_why.into_frame);
         }
     }
+    // A sector whose samples came without their base, its whole sample not come yet: the copy holds it as
+    // of an older frame, and nothing better is left of it once its owner is gone. Said, not hidden.
+    for (const auto& [key, bodies] : mirror.sectors()) {
+        if (going.count(current.owner_of(key)) && intake.wants_whole(key))
+            spdlog::error(
+                "coordinator: sector ({}, {}, {}) of worker {} is restored as of frame {}: its samples since "
+                "came without their base, and it was gone before its whole sample came",
+                key.i, key.j, key.k, current.owner_of(key), intake.chain().newest(key));
+    }
     // The frames they did not finish, each stepped here from the world as every body was last published
     // (frame f - 1: everything received of it), with the handoffs and commands of frame f.
     take_samples(f - 1);

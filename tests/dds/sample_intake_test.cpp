@@ -63,6 +63,8 @@ TEST(SampleIntake, APartialSampleWithoutItsBaseWantsItsSectorWholeUntilAWholeOne
     EXPECT_TRUE(intake.whole_due().empty());
     // Frame 11's whole sample (the new base) was lost: 12 cannot be applied on 10.
     EXPECT_EQ(intake.take(partial(kWest, 12, 11, west), 12, kFramesAhead), Taken::without_base);
+    EXPECT_TRUE(intake.wants_whole(kWest));
+    EXPECT_FALSE(intake.wants_whole(kEast));
     const std::vector<wire::SectorKey> due = intake.whole_due();
     ASSERT_EQ(due.size(), 1u);
     EXPECT_EQ(from_wire(due[0]), kWest);
@@ -70,6 +72,7 @@ TEST(SampleIntake, APartialSampleWithoutItsBaseWantsItsSectorWholeUntilAWholeOne
     EXPECT_EQ(frames_of(intake.through(20)), (std::vector<std::uint64_t>{10}));
     // The owner answers with the sector whole: it is no longer wanted.
     EXPECT_EQ(intake.take(whole(kWest, 13, west), 13, kFramesAhead), Taken::queued);
+    EXPECT_FALSE(intake.wants_whole(kWest));
     intake.want_whole(kEast);  // and a sector wanted for a reason of the reader's own
     std::this_thread::sleep_for(std::chrono::milliseconds(110));
     const std::vector<wire::SectorKey> after = intake.whole_due();
