@@ -13,7 +13,6 @@
 #include "lpss_dds/sample_intake.hpp"
 #include "lpss_dds/sector_mirror.hpp"
 #include "lpss_dds/topics.hpp"
-#include "lpss_dds/whole_sector_asks.hpp"
 
 namespace lpss {
 

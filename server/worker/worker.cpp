@@ -186,8 +186,8 @@ std::uint64_t Worker::State::frames_ahead() const {
 void Worker::State::take_sample(wire::SectorFrame f) {
     if (f.worker() == options.id) return;
     const std::uint64_t frame_of = f.frame();
-    // Not applied: the sector is asked for whole (ask_for_whole_sectors), as clients do, or it would stay
-    // broken until its owner sent it whole for some other reason.
+    // Not applied: the sector is asked for whole (ask_for_whole_sectors), as clients and the coordinators
+    // do, or it would stay broken until its owner sent it whole for some other reason.
     if (intake.take(std::move(f), known_frame(), frames_ahead()) == dds::SampleIntake::Taken::without_base)
         spdlog::warn("worker {}: sector sample of frame {} without its base", options.id, frame_of);
 }
