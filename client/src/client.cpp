@@ -138,7 +138,7 @@ struct Client::State {
     void apply_until(std::uint64_t frame);
     WorldFrame frame_view(std::uint64_t frame) const;
     WorldFrame changes_view(std::uint64_t frame);
-    BodyView view_of(const SectorKey& key, const wire::BodyState& state) const;
+    BodyView view_of(const SectorKey& key, const dds::PackedBodyState& state) const;
     BodyView view_of(BodyId id, const BodyDesc& plane) const;
     /// Of the samples applied since the last frame returned: the bodies they carry, with their sectors,
     /// and those that left what this client holds (FrameContent::changes).
@@ -678,8 +678,8 @@ void Client::State::apply_until(std::uint64_t frame) {
     intake.applied(frame);
 }
 
-BodyView Client::State::view_of(const SectorKey& key, const wire::BodyState& state) const {
-    const BodySnapshot s = dds::from_wire(state, key);
+BodyView Client::State::view_of(const SectorKey& key, const dds::PackedBodyState& state) const {
+    const BodySnapshot s = dds::unpack(state, key);
     BodyView b;
     b.id = s.id;
     b.position = s.position;
@@ -725,8 +725,8 @@ WorldFrame Client::State::changes_view(std::uint64_t frame) {
                 const dds::SectorMirror::Bodies& bodies = sector->second;
                 auto at = std::lower_bound(
                     bodies.begin(), bodies.end(), id,
-                    [](const dds::SectorMirror::Body& b, BodyId x) { return b.state.id() < x; });
-                if (at != bodies.end() && at->state.id() == id) found = view_of(key, at->state);
+                    [](const dds::SectorMirror::Body& b, BodyId x) { return b.state.id < x; });
+                if (at != bodies.end() && at->state.id == id) found = view_of(key, at->state);
             }
             if (found) out.bodies.push_back(*found);
         }

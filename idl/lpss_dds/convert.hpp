@@ -36,10 +36,13 @@ struct PackedBodyState {
     }
 };
 PackedBodyState pack(const BodySnapshot& body);
+PackedBodyState pack(const wire::BodyState& state);
 wire::BodyState to_wire(const PackedBodyState& state);
+/// The state read back, placed in `sector`.
+BodySnapshot unpack(const PackedBodyState& state, const SectorKey& sector);
 /// A body's state with its position as a float offset from its sector's centre: to_wire(pack(body)).
 wire::BodyState to_wire(const BodySnapshot& body);
-/// The state read back, placed in `sector`.
+/// The state read back, placed in `sector`: unpack(pack(state), sector).
 BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector);
 /// Whether the body was awake (simulated) when its state was taken.
 inline bool is_awake(const wire::BodyState& state) { return (state.flags() & 1u) != 0; }

@@ -4,8 +4,10 @@
 // in both here: the mirror hides no fault of the writers.
 //
 // Compact, for readers that hold a whole world (the coordinator, whole-world clients): a body is its wire
-// state and the index of its kind among the distinct kinds seen (most bodies share one); names, which
-// are the body's own, are kept apart for the bodies that have one.
+// state as a plain value and the index of its kind among the distinct kinds seen (most bodies share one);
+// names, which are the body's own, are kept apart for the bodies that have one. Plain values, because each
+// sample's bodies are searched, copied and moved here: with fastddsgen's types (an accessor call for each
+// id, a copy through nested members) that was most of what the coordinator did with a sample.
 #pragma once
 
 #include <optional>
@@ -16,13 +18,14 @@
 #include "lpss.h"
 #include "lpss/common/body_desc.hpp"
 #include "lpss/common/sector_key.hpp"
+#include "lpss_dds/convert.hpp"
 
 namespace lpss::dds {
 
 class SectorMirror {
 public:
     struct Body {
-        wire::BodyState state;
+        PackedBodyState state;
         std::uint32_t kind = 0;  ///< index into the distinct kinds
     };
     using Bodies = std::vector<Body>;  ///< sorted by id
@@ -53,7 +56,7 @@ public:
 private:
     std::uint32_t intern(const wire::BodyKind& kind);
     /// Puts or replaces a body in a sector's sorted list.
-    void put(Bodies& bodies, const wire::BodyState& state, std::uint32_t kind);
+    void put(Bodies& bodies, const PackedBodyState& state, std::uint32_t kind);
 
     Sectors sectors_;
     std::vector<wire::BodyKind> kinds_;                     ///< distinct, without id and name

@@ -3,11 +3,9 @@
 namespace lpss::dds {
 namespace {
 
-Eigen::Vector3d from_wire_f(const wire::Vec3f& v) { return {v.x(), v.y(), v.z()}; }
+Eigen::Vector3d from_array(const std::array<float, 3>& v) { return {v[0], v[1], v[2]}; }
 
-Eigen::Quaterniond from_wire_q(const wire::Quatf& q) {
-    return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
-}
+std::array<float, 3> to_array(const wire::Vec3f& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
@@ -71,17 +69,34 @@ wire::BodyState to_wire(const PackedBodyState& state) {
     return out;
 }
 
+PackedBodyState pack(const wire::BodyState& state) {
+    PackedBodyState out;
+    out.id = state.id();
+    out.position = to_array(state.position());
+    const wire::Quatf& q = state.orientation();
+    out.orientation = {q.x(), q.y(), q.z(), q.w()};
+    out.linear_velocity = to_array(state.linear_velocity());
+    out.angular_velocity = to_array(state.angular_velocity());
+    out.flags = state.flags();
+    return out;
+}
+
 wire::BodyState to_wire(const BodySnapshot& body) { return to_wire(pack(body)); }
 
-BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
+BodySnapshot unpack(const PackedBodyState& state, const SectorKey& sector) {
     BodySnapshot out;
-    out.id = state.id();
-    out.position = SectorPosition{sector, from_wire_f(state.position())};
-    out.orientation = from_wire_q(state.orientation());
-    out.linear_velocity = from_wire_f(state.linear_velocity());
-    out.angular_velocity = from_wire_f(state.angular_velocity());
-    out.awake = is_awake(state);
+    out.id = state.id;
+    out.position = SectorPosition{sector, from_array(state.position)};
+    const std::array<float, 4>& q = state.orientation;
+    out.orientation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+    out.linear_velocity = from_array(state.linear_velocity);
+    out.angular_velocity = from_array(state.angular_velocity);
+    out.awake = state.awake();
     return out;
+}
+
+BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector) {
+    return unpack(pack(state), sector);
 }
 
 wire::BodyKind kind_of(const BodyDesc& body) {

@@ -9,7 +9,23 @@
 namespace lpss::dds {
 namespace {
 
-auto by_id = [](const SectorMirror::Body& b, BodyId id) { return b.state.id() < id; };
+auto by_id = [](const SectorMirror::Body& b, BodyId id) { return b.state.id < id; };
+
+/// Where `id` is, or would go, in a sector's bodies, searched onwards from `from` (where the id looked up
+/// before it was) when ids come in order, as a sample's do: steps of 1, 2, 4... then a binary search within
+/// the last step. A binary search from the middle of a sector of hundreds of bodies missed the cache at
+/// each of its first steps, for every body of every sample: most of what the mirror cost its reader.
+std::size_t seek(const SectorMirror::Bodies& bodies, std::size_t from, BodyId id) {
+    if (from > bodies.size() || (from > 0 && bodies[from - 1].state.id >= id)) from = 0;
+    std::size_t step = 1;
+    while (bodies.size() - from > step && bodies[from + step - 1].state.id < id) {
+        from += step;
+        step *= 2;
+    }
+    const auto first = bodies.begin() + static_cast<std::ptrdiff_t>(from);
+    const auto last = bodies.begin() + static_cast<std::ptrdiff_t>(std::min(bodies.size(), from + step));
+    return static_cast<std::size_t>(std::lower_bound(first, last, id, by_id) - bodies.begin());
+}
 
 /// The bytes that tell kinds apart (everything but id and name).
 std::string key_of(const wire::BodyKind& k) {
@@ -46,9 +62,9 @@ std::uint32_t SectorMirror::intern(const wire::BodyKind& kind) {
     return n;
 }
 
-void SectorMirror::put(Bodies& bodies, const wire::BodyState& state, std::uint32_t kind) {
-    auto at = std::lower_bound(bodies.begin(), bodies.end(), state.id(), by_id);
-    if (at != bodies.end() && at->state.id() == state.id()) {
+void SectorMirror::put(Bodies& bodies, const PackedBodyState& state, std::uint32_t kind) {
+    auto at = std::lower_bound(bodies.begin(), bodies.end(), state.id, by_id);
+    if (at != bodies.end() && at->state.id == state.id) {
         at->state = state;
         at->kind = kind;
     } else {
@@ -69,42 +85,52 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
         if (sample->complete()) {
             Bodies fresh;
             fresh.reserve(sample->bodies().size());
-            for (const wire::BodyState& b : sample->bodies()) {
-                auto kind = kinds.find(b.id());
+            for (const wire::BodyState& wired : sample->bodies()) {
+                const PackedBodyState b = pack(wired);
+                auto kind = kinds.find(b.id);
                 std::uint32_t index = 0;
                 if (kind != kinds.end()) {
                     index = intern(*kind->second);
-                    if (!kind->second->name().empty()) names_[b.id()] = kind->second->name();
+                    if (!kind->second->name().empty()) names_[b.id] = kind->second->name();
                 } else {
-                    auto old = std::lower_bound(bodies.begin(), bodies.end(), b.id(), by_id);
-                    if (old != bodies.end() && old->state.id() == b.id()) index = old->kind;
+                    auto old = std::lower_bound(bodies.begin(), bodies.end(), b.id, by_id);
+                    if (old != bodies.end() && old->state.id == b.id) index = old->kind;
                 }
                 fresh.push_back(Body{b, index});
             }
             std::sort(fresh.begin(), fresh.end(),
-                      [](const Body& x, const Body& y) { return x.state.id() < y.state.id(); });
+                      [](const Body& x, const Body& y) { return x.state.id < y.state.id; });
             for (const Body& b : bodies) {
-                auto at = std::lower_bound(fresh.begin(), fresh.end(), b.state.id(), by_id);
-                if (at == fresh.end() || at->state.id() != b.state.id()) gone.push_back(b.state.id());
+                auto at = std::lower_bound(fresh.begin(), fresh.end(), b.state.id, by_id);
+                if (at == fresh.end() || at->state.id != b.state.id) gone.push_back(b.state.id);
             }
             bodies.swap(fresh);
         } else {
+            std::size_t at = 0;
             for (std::uint64_t id : sample->departed()) {
-                auto at = std::lower_bound(bodies.begin(), bodies.end(), id, by_id);
-                if (at == bodies.end() || at->state.id() != id) continue;
-                bodies.erase(at);
+                at = seek(bodies, at, id);
+                if (at == bodies.size() || bodies[at].state.id != id) continue;
+                bodies.erase(bodies.begin() + static_cast<std::ptrdiff_t>(at));
                 gone.push_back(id);
             }
-            for (const wire::BodyState& b : sample->bodies()) {
-                auto kind = kinds.find(b.id());
+            at = 0;
+            for (const wire::BodyState& wired : sample->bodies()) {
+                const PackedBodyState b = pack(wired);
+                at = seek(bodies, at, b.id);
+                const bool held = at != bodies.size() && bodies[at].state.id == b.id;
+                auto kind = kinds.find(b.id);
                 if (kind != kinds.end()) {
-                    if (!kind->second->name().empty()) names_[b.id()] = kind->second->name();
-                    put(bodies, b, intern(*kind->second));
-                } else {
-                    auto at = std::lower_bound(bodies.begin(), bodies.end(), b.id(), by_id);
-                    if (at != bodies.end() && at->state.id() == b.id()) at->state = b;
-                    // (a body changed that this mirror does not hold: its base was missed; not shown)
+                    if (!kind->second->name().empty()) names_[b.id] = kind->second->name();
+                    if (held) {
+                        bodies[at] = Body{b, intern(*kind->second)};
+                    } else {
+                        bodies.insert(bodies.begin() + static_cast<std::ptrdiff_t>(at),
+                                      Body{b, intern(*kind->second)});
+                    }
+                } else if (held) {
+                    bodies[at].state = b;
                 }
+                // (neither: a body changed that this mirror does not hold, its base missed; not shown)
             }
         }
         if (bodies.empty()) sectors_.erase(key);
@@ -129,7 +155,7 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
         auto bodies = sectors_.find(sector);
         if (bodies == sectors_.end()) return false;
         auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
-        return at != bodies->second.end() && at->state.id() == id;
+        return at != bodies->second.end() && at->state.id == id;
     };
     for (BodyId id : gone) {
         if (auto at = arrived.find(id); at != arrived.end() && holds(at->second, id)) continue;
@@ -140,7 +166,7 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
 
 void SectorMirror::insert(const SectorKey& sector, const wire::BodyState& state, const wire::BodyKind& kind) {
     if (!kind.name().empty()) names_[state.id()] = kind.name();
-    put(sectors_[sector], state, intern(kind));
+    put(sectors_[sector], pack(state), intern(kind));
 }
 
 void SectorMirror::drop(const std::vector<SectorKey>& sectors, std::vector<BodyId>* left) {
@@ -149,13 +175,13 @@ void SectorMirror::drop(const std::vector<SectorKey>& sectors, std::vector<BodyI
         auto it = sectors_.find(key);
         if (it == sectors_.end()) continue;
         for (const Body& b : it->second)
-            gone.insert(b.state.id());
+            gone.insert(b.state.id);
         sectors_.erase(it);
     }
     if (gone.empty()) return;
     for (const auto& [key, bodies] : sectors_) {
         for (const Body& b : bodies)
-            gone.erase(b.state.id());
+            gone.erase(b.state.id);
     }
     std::vector<BodyId> ids(gone.begin(), gone.end());
     std::sort(ids.begin(), ids.end());
@@ -167,15 +193,15 @@ void SectorMirror::drop(const std::vector<SectorKey>& sectors, std::vector<BodyI
 
 wire::BodyKind SectorMirror::kind(const Body& body) const {
     wire::BodyKind out = kinds_.at(body.kind);
-    out.id(body.state.id());
-    if (auto name = names_.find(body.state.id()); name != names_.end()) out.name(name->second);
+    out.id(body.state.id);
+    if (auto name = names_.find(body.state.id); name != names_.end()) out.name(name->second);
     return out;
 }
 
 std::optional<wire::BodyKind> SectorMirror::kind(BodyId id) const {
     for (const auto& [key, bodies] : sectors_) {
         auto at = std::lower_bound(bodies.begin(), bodies.end(), id, by_id);
-        if (at != bodies.end() && at->state.id() == id) return kind(*at);
+        if (at != bodies.end() && at->state.id == id) return kind(*at);
     }
     return std::nullopt;
 }
@@ -184,7 +210,7 @@ std::optional<wire::BodyKind> SectorMirror::kind(const SectorKey& sector, BodyId
     auto bodies = sectors_.find(sector);
     if (bodies == sectors_.end()) return std::nullopt;
     auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
-    if (at == bodies->second.end() || at->state.id() != id) return std::nullopt;
+    if (at == bodies->second.end() || at->state.id != id) return std::nullopt;
     return kind(*at);
 }
 

@@ -59,7 +59,7 @@ wire::SectorFrame Coordinator::State::whole_from_mirror(const SectorKey& key, st
     auto it = mirror.sectors().find(key);
     if (it == mirror.sectors().end()) return sample;
     for (const dds::SectorMirror::Body& body : it->second) {
-        sample.bodies().push_back(body.state);
+        sample.bodies().push_back(dds::to_wire(body.state));
         sample.kinds().push_back(mirror.kind(body));
     }
     return sample;
@@ -147,7 +147,7 @@ void Coordinator::State::restore_gone(std::uint64_t f) {
     std::set<SectorKey> may_change;
     for (const auto& [key, bodies] : mirror.sectors()) {
         if (std::any_of(bodies.begin(), bodies.end(),
-                        [](const dds::SectorMirror::Body& b) { return dds::is_awake(b.state); }))
+                        [](const dds::SectorMirror::Body& b) { return b.state.awake(); }))
             for_each_near(key, [&](const SectorKey& near) { may_change.insert(near); });
     }
     for (const wire::Handoff& h : in_flight)

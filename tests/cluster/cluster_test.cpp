@@ -799,7 +799,7 @@ public:
             bool twice = false;
             for (const auto& [key, bodies] : mirror_.sectors()) {
                 for (const dds::SectorMirror::Body& body : bodies) {
-                    const auto id = static_cast<std::size_t>(body.state.id());
+                    const auto id = static_cast<std::size_t>(body.state.id);
                     if (id >= seen_.size()) seen_.resize(2 * id + 1, 0);
                     distinct += seen_[id] == 0;
                     twice = twice || seen_[id] == 1;
@@ -815,7 +815,7 @@ public:
                     first_incomplete += " (" + std::to_string(key.i) + "," + std::to_string(key.j) + "," +
                                         std::to_string(key.k) + "):";
                     for (const dds::SectorMirror::Body& body : bodies)
-                        first_incomplete += " " + std::to_string(body.state.id());
+                        first_incomplete += " " + std::to_string(body.state.id);
                 }
                 first_incomplete += "; the first state's sectors:";
                 for (const SectorKey& key : first_state_ ? *first_state_ : std::vector<SectorKey>{})
@@ -967,8 +967,7 @@ TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
             if (!adjacent) continue;
             next_to_own += bodies.size();
             for (const dds::SectorMirror::Body& b : bodies) {
-                const Eigen::Vector3d local(b.state.position().x(), b.state.position().y(),
-                                            b.state.position().z());
+                const Eigen::Vector3d local(b.state.position[0], b.state.position[1], b.state.position[2]);
                 bool near = false;
                 neighbours_within(local, scene.settings.sector_size, near_reach, [&](const SectorKey& d) {
                     near = near || own[worker].count(SectorKey{key.i + d.i, key.j + d.j, key.k + d.k}) != 0;

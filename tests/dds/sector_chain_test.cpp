@@ -2,6 +2,9 @@
 // sector from complete and partial samples applied in frame order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/sample_check.hpp"
 #include "lpss_dds/sector_chain.hpp"
@@ -98,17 +101,54 @@ TEST(SectorMirror, CompleteSamplesReplaceAndPartialOnesUpdate) {
     mirror.apply({&first, &second});
     const SectorMirror::Bodies& bodies = mirror.sectors().at(kSector);
     ASSERT_EQ(bodies.size(), 2u);
-    EXPECT_EQ(bodies[0].state.id(), 1u);
-    EXPECT_EQ(bodies[0].state.position().x(), 1.0f);  // unchanged, not resent
-    EXPECT_EQ(bodies[1].state.id(), 2u);
-    EXPECT_EQ(bodies[1].state.position().x(), 2.5f);
+    EXPECT_EQ(bodies[0].state.id, 1u);
+    EXPECT_EQ(bodies[0].state.position[0], 1.0f);  // unchanged, not resent
+    EXPECT_EQ(bodies[1].state.id, 2u);
+    EXPECT_EQ(bodies[1].state.position[0], 2.5f);
     const wire::SectorFrame whole = complete(12, {state_of(4, 4.0)});
     mirror.apply({&whole});  // whole: what is not in it is not in the sector
     ASSERT_EQ(mirror.sectors().at(kSector).size(), 1u);
-    EXPECT_EQ(mirror.sectors().at(kSector)[0].state.id(), 4u);
+    EXPECT_EQ(mirror.sectors().at(kSector)[0].state.id, 4u);
     const wire::SectorFrame empty = complete(13, {});
     mirror.apply({&empty});
     EXPECT_TRUE(mirror.sectors().empty());
+}
+
+TEST(SectorMirror, APartialSampleIsAppliedWhateverTheOrderOfItsIds) {
+    // A writer sends ids in order, and the mirror searches onwards from the last one it found; a peer may
+    // not, and the mirror must then hold the same bodies all the same.
+    SectorMirror mirror;
+    std::vector<wire::BodyState> first;
+    for (BodyId id = 2; id <= 40; id += 2)
+        first.push_back(state_of(id, static_cast<double>(id)));
+    const wire::SectorFrame whole = complete(10, first);
+    wire::SectorFrame changes = partial(11, 10,
+                                        {state_of(40, -40.0), state_of(3, -3.0), state_of(2, -2.0),
+                                         state_of(41, -41.0), state_of(17, -17.0), state_of(6, -6.0)},
+                                        {30, 6, 100, 4});
+    for (BodyId arrival : {3u, 41u}) {
+        wire::BodyKind kind;
+        kind.id(arrival);
+        changes.kinds().push_back(kind);
+    }
+    mirror.apply({&whole, &changes});
+    std::map<BodyId, float> held;
+    for (const SectorMirror::Body& b : mirror.sectors().at(kSector))
+        held[b.state.id] = b.state.position[0];
+    std::map<BodyId, float> want;
+    for (BodyId id = 2; id <= 40; id += 2)
+        want[id] = static_cast<float>(id);
+    want.erase(30);  // departed (6 and 4 too, and 100 was never there)
+    want.erase(6);   // departed, then changed without a kind: a body the mirror does not hold, not shown
+    want.erase(4);
+    want[40] = -40.0f;
+    want[2] = -2.0f;
+    want[3] = -3.0f;    // arrived, with its kind
+    want[41] = -41.0f;  // arrived, with its kind; 17 came without one and is not shown
+    EXPECT_EQ(held, want);
+    const SectorMirror::Bodies& bodies = mirror.sectors().at(kSector);
+    EXPECT_TRUE(std::is_sorted(bodies.begin(), bodies.end(),
+                               [](const auto& a, const auto& b) { return a.state.id < b.state.id; }));
 }
 
 TEST(SectorMirror, DroppingAStaleSectorLetsGoOnlyOfTheBodiesNoOtherSectorHolds) {
@@ -124,7 +164,7 @@ TEST(SectorMirror, DroppingAStaleSectorLetsGoOnlyOfTheBodiesNoOtherSectorHolds) 
     EXPECT_EQ(left, std::vector<BodyId>{1});
     EXPECT_EQ(mirror.sectors().count(kSector), 0u);
     ASSERT_EQ(mirror.sectors().count(SectorKey{4, -1, 7}), 1u);
-    EXPECT_EQ(mirror.sectors().at(SectorKey{4, -1, 7}).front().state.id(), 2u);
+    EXPECT_EQ(mirror.sectors().at(SectorKey{4, -1, 7}).front().state.id, 2u);
 }
 
 TEST(SampleCheck, GarbageFromAPeerIsRefusedWithItsReason) {

@@ -168,14 +168,13 @@ TEST(SectorPublisher, WhatItWritesRebuildsTheSectorWhateverTheChanges) {
         ASSERT_EQ(held, truth.size()) << "frame " << frame;
         if (held == 0) continue;
         for (const SectorMirror::Body& b : it->second) {
-            const BodySnapshot& want = truth.at(b.state.id());
-            ASSERT_EQ(b.state.position().x(), static_cast<float>(want.position.local.x()))
-                << "frame " << frame;
-            ASSERT_EQ((b.state.flags() & 1u) != 0, want.awake) << "frame " << frame;
+            const BodySnapshot& want = truth.at(b.state.id);
+            ASSERT_EQ(b.state.position[0], static_cast<float>(want.position.local.x())) << "frame " << frame;
+            ASSERT_EQ(b.state.awake(), want.awake) << "frame " << frame;
             const wire::BodyKind k = mirror.kind(b);
-            ASSERT_EQ(k.id(), b.state.id());
-            ASSERT_EQ(k.name(), kind_of_id(b.state.id()).name());
-            ASSERT_EQ(k.shape(), kind_of_id(b.state.id()).shape());
+            ASSERT_EQ(k.id(), b.state.id);
+            ASSERT_EQ(k.name(), kind_of_id(b.state.id).name());
+            ASSERT_EQ(k.shape(), kind_of_id(b.state.id).shape());
         }
     }
     EXPECT_EQ(mirror.distinct_kinds(), 2u) << "spheres and boxes: two kinds for hundreds of bodies";

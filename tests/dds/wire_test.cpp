@@ -124,6 +124,36 @@ TEST(Wire, BodyDescriptionsRoundTrip) {
     EXPECT_EQ(back.material.friction, 0.3);
 }
 
+TEST(Wire, BodyStatesRoundTripThroughTheirPackedForm) {
+    // What a writer publishes (to_wire of a snapshot), what a mirror keeps (pack of the wire state) and
+    // what a client shows (unpack) are the same floats, each field in its place.
+    BodySnapshot body;
+    body.id = 7;
+    body.position = SectorPosition{{-3, 0, 9}, {1.5, -2.25, 63.75}};
+    body.orientation = Eigen::Quaterniond(0.5, -0.5, 0.5, 0.5);
+    body.linear_velocity = Eigen::Vector3d(1, -2, 3);
+    body.angular_velocity = Eigen::Vector3d(-0.25, 0.5, -4);
+    body.awake = true;
+    const wire::BodyState wired = to_wire(body);
+    const PackedBodyState packed = pack(wired);
+    EXPECT_TRUE(packed.same_motion(pack(body)));
+    EXPECT_EQ(packed.id, 7u);
+    const BodySnapshot back = unpack(packed, body.position.sector);
+    EXPECT_EQ(back.id, body.id);
+    EXPECT_EQ(back.position.sector, body.position.sector);
+    EXPECT_EQ(back.position.local, body.position.local);
+    EXPECT_EQ(back.orientation.coeffs(), body.orientation.coeffs());
+    EXPECT_EQ(back.linear_velocity, body.linear_velocity);
+    EXPECT_EQ(back.angular_velocity, body.angular_velocity);
+    EXPECT_TRUE(back.awake);
+    const wire::BodyState again = to_wire(packed);
+    EXPECT_EQ(again.orientation().w(), 0.5f);
+    EXPECT_EQ(again.angular_velocity().z(), -4.0f);
+    EXPECT_EQ(again.flags(), 1u);
+    body.awake = false;
+    EXPECT_FALSE(pack(to_wire(body)).awake());
+}
+
 TEST(Wire, WorldSettingsRoundTrip) {
     // Workers build their worlds from the settings the coordinator sends: every field must arrive.
     WorldSettings s;
