@@ -44,8 +44,6 @@ BodySnapshot unpack(const PackedBodyState& state, const SectorKey& sector);
 wire::BodyState to_wire(const BodySnapshot& body);
 /// The state read back, placed in `sector`: unpack(pack(state), sector).
 BodySnapshot from_wire(const wire::BodyState& state, const SectorKey& sector);
-/// Whether the body was awake (simulated) when its state was taken.
-inline bool is_awake(const wire::BodyState& state) { return (state.flags() & 1u) != 0; }
 
 /// What a body is (shape, mass, material, name), without where it is.
 wire::BodyKind kind_of(const BodyDesc& body);

@@ -4,8 +4,6 @@
 #include <cstring>
 #include <unordered_set>
 
-#include "lpss_dds/convert.hpp"
-
 namespace lpss::dds {
 namespace {
 

@@ -130,7 +130,9 @@ TEST(Wire, BodyStatesRoundTripThroughTheirPackedForm) {
     BodySnapshot body;
     body.id = 7;
     body.position = SectorPosition{{-3, 0, 9}, {1.5, -2.25, 63.75}};
-    body.orientation = Eigen::Quaterniond(0.5, -0.5, 0.5, 0.5);
+    // (w, x, y, z) each its own, so that no two can change places unseen; exact in float, and not a unit
+    // quaternion, which the conversions do not ask for.
+    body.orientation = Eigen::Quaterniond(0.125, -0.25, 0.375, 0.5);
     body.linear_velocity = Eigen::Vector3d(1, -2, 3);
     body.angular_velocity = Eigen::Vector3d(-0.25, 0.5, -4);
     body.awake = true;
@@ -147,7 +149,11 @@ TEST(Wire, BodyStatesRoundTripThroughTheirPackedForm) {
     EXPECT_EQ(back.angular_velocity, body.angular_velocity);
     EXPECT_TRUE(back.awake);
     const wire::BodyState again = to_wire(packed);
-    EXPECT_EQ(again.orientation().w(), 0.5f);
+    EXPECT_EQ(again.orientation().x(), -0.25f);
+    EXPECT_EQ(again.orientation().y(), 0.375f);
+    EXPECT_EQ(again.orientation().z(), 0.5f);
+    EXPECT_EQ(again.orientation().w(), 0.125f);
+    EXPECT_EQ(again.linear_velocity().y(), -2.0f);
     EXPECT_EQ(again.angular_velocity().z(), -4.0f);
     EXPECT_EQ(again.flags(), 1u);
     body.awake = false;
