@@ -720,13 +720,9 @@ WorldFrame Client::State::changes_view(std::uint64_t frame) {
             std::optional<BodyView> found;
             for (; n < touched.size() && touched[n].first == id; ++n) {
                 const SectorKey& key = touched[n].second;
-                auto sector = mirror.sectors().find(key);
-                if (found || !follows(key) || sector == mirror.sectors().end()) continue;
-                const dds::SectorMirror::Bodies& bodies = sector->second;
-                auto at = std::lower_bound(
-                    bodies.begin(), bodies.end(), id,
-                    [](const dds::SectorMirror::Body& b, BodyId x) { return b.state.id < x; });
-                if (at != bodies.end() && at->state.id == id) found = view_of(key, at->state);
+                if (found || !follows(key)) continue;
+                if (const dds::SectorMirror::Body* body = mirror.find(key, id))
+                    found = view_of(key, body->state);
             }
             if (found) out.bodies.push_back(*found);
         }

@@ -51,12 +51,15 @@ public:
     std::optional<wire::BodyKind> kind(BodyId id) const;
     /// What a body is, found in the sector that holds it, or nothing.
     std::optional<wire::BodyKind> kind(const SectorKey& sector, BodyId id) const;
+    /// A body as the sector holds it, or null (valid until the next apply, insert or drop).
+    const Body* find(const SectorKey& sector, BodyId id) const;
     std::size_t distinct_kinds() const { return kinds_.size(); }
 
 private:
     std::uint32_t intern(const wire::BodyKind& kind);
-    /// Puts or replaces a body in a sector's sorted list.
-    void put(Bodies& bodies, const PackedBodyState& state, std::uint32_t kind);
+    /// Puts a body in a sector's sorted list at `at`, the place of its id (the first body whose id is not
+    /// less): in place of the body of that id, or before it.
+    static void put(Bodies& bodies, std::size_t at, const Body& body);
 
     Sectors sectors_;
     std::vector<wire::BodyKind> kinds_;                     ///< distinct, without id and name

@@ -60,13 +60,11 @@ std::uint32_t SectorMirror::intern(const wire::BodyKind& kind) {
     return n;
 }
 
-void SectorMirror::put(Bodies& bodies, const PackedBodyState& state, std::uint32_t kind) {
-    auto at = std::lower_bound(bodies.begin(), bodies.end(), state.id, by_id);
-    if (at != bodies.end() && at->state.id == state.id) {
-        at->state = state;
-        at->kind = kind;
+void SectorMirror::put(Bodies& bodies, std::size_t at, const Body& body) {
+    if (at != bodies.size() && bodies[at].state.id == body.state.id) {
+        bodies[at] = body;
     } else {
-        bodies.insert(at, Body{state, kind});
+        bodies.insert(bodies.begin() + static_cast<std::ptrdiff_t>(at), body);
     }
 }
 
@@ -119,12 +117,7 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
                 auto kind = kinds.find(b.id);
                 if (kind != kinds.end()) {
                     if (!kind->second->name().empty()) names_[b.id] = kind->second->name();
-                    if (held) {
-                        bodies[at] = Body{b, intern(*kind->second)};
-                    } else {
-                        bodies.insert(bodies.begin() + static_cast<std::ptrdiff_t>(at),
-                                      Body{b, intern(*kind->second)});
-                    }
+                    put(bodies, at, Body{b, intern(*kind->second)});
                 } else if (held) {
                     bodies[at].state = b;
                 }
@@ -149,14 +142,8 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
         for (const wire::BodyState& b : sample->bodies())
             note(b.id(), key);
     }
-    auto holds = [this](const SectorKey& sector, BodyId id) {
-        auto bodies = sectors_.find(sector);
-        if (bodies == sectors_.end()) return false;
-        auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
-        return at != bodies->second.end() && at->state.id == id;
-    };
     for (BodyId id : gone) {
-        if (auto at = arrived.find(id); at != arrived.end() && holds(at->second, id)) continue;
+        if (auto at = arrived.find(id); at != arrived.end() && find(at->second, id)) continue;
         names_.erase(id);
         if (left) left->push_back(id);
     }
@@ -164,7 +151,9 @@ void SectorMirror::apply(const std::vector<const wire::SectorFrame*>& samples, s
 
 void SectorMirror::insert(const SectorKey& sector, const wire::BodyState& state, const wire::BodyKind& kind) {
     if (!kind.name().empty()) names_[state.id()] = kind.name();
-    put(sectors_[sector], pack(state), intern(kind));
+    Bodies& bodies = sectors_[sector];
+    const auto at = std::lower_bound(bodies.begin(), bodies.end(), state.id(), by_id);
+    put(bodies, static_cast<std::size_t>(at - bodies.begin()), Body{pack(state), intern(kind)});
 }
 
 void SectorMirror::drop(const std::vector<SectorKey>& sectors, std::vector<BodyId>* left) {
@@ -205,11 +194,16 @@ std::optional<wire::BodyKind> SectorMirror::kind(BodyId id) const {
 }
 
 std::optional<wire::BodyKind> SectorMirror::kind(const SectorKey& sector, BodyId id) const {
+    const Body* body = find(sector, id);
+    if (body == nullptr) return std::nullopt;
+    return kind(*body);
+}
+
+const SectorMirror::Body* SectorMirror::find(const SectorKey& sector, BodyId id) const {
     auto bodies = sectors_.find(sector);
-    if (bodies == sectors_.end()) return std::nullopt;
+    if (bodies == sectors_.end()) return nullptr;
     auto at = std::lower_bound(bodies->second.begin(), bodies->second.end(), id, by_id);
-    if (at == bodies->second.end() || at->state.id != id) return std::nullopt;
-    return kind(*at);
+    return at != bodies->second.end() && at->state.id == id ? &*at : nullptr;
 }
 
 }  // namespace lpss::dds
