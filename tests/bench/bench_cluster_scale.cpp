@@ -35,6 +35,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// The median over runs of one of their figures.
+template <class Run>
+double median_of(const std::vector<Run>& runs, double Run::*figure) {
+    std::vector<double> values;
+    for (const Run& run : runs)
+        values.push_back(run.*figure);
+    return median(values);
+}
+
 std::string read_text(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::stringstream text;
@@ -223,7 +232,11 @@ void run_cluster_scale(const Context& context) {
                  "bytes_per_worker_frame_mean",
                  "held_share_max",
                  "step_ms_max",
-                 "publish_ms_max"});
+                 "publish_ms_max",
+                 "rounds",
+                 "budget_ratio",
+                 "budget_ratio_low",
+                 "budget_ratio_high"});
     std::filesystem::create_directories(context.out);
     const std::vector<std::size_t> sizes = !context.sizes.empty() ? context.sizes
                                            : context.quick        ? std::vector<std::size_t>{10000, 30000}
@@ -231,6 +244,7 @@ void run_cluster_scale(const Context& context) {
     const std::vector<int> worker_counts = context.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 4};
     const std::size_t moving = 1000;
     const std::uint64_t frames = context.quick ? 120 : 300;
+    const unsigned rounds = context.rounds ? context.rounds : (context.quick ? 1u : 3u);
     int domain = 170;
     std::string memory_lines;
     struct Held {  // resident MiB at each size
@@ -246,42 +260,72 @@ void run_cluster_scale(const Context& context) {
                              moving, logs.string()));
         const std::filesystem::path scene = logs / "world.textproto";
         std::ofstream(scene) << format_scene(scenes::resting_world(n, moving));
-        progress(fmt::format("cluster-scale: {} bodies in lpss-sim", n));
-        const SimRun sim = run_sim(scene, frames, logs);
-        for (int workers : worker_counts) {
-            progress(fmt::format("cluster-scale: {} bodies on {} worker(s)", n, workers));
-            const std::filesystem::path run_logs = logs / fmt::format("workers-{}", workers);
-            std::filesystem::create_directories(run_logs);
-            const ClusterRun c =
-                run_cluster(scene, n + moving + 1, workers, frames, domain++, run_logs, false);
-            if (workers == 1) {
-                held.coordinator.push_back(c.coordinator_mib);
-                held.worker.push_back(c.first_worker_mib);
+        // Round after round, lpss-sim and then every cluster, each cluster's frame compared with the lpss-sim
+        // frame of its own round: this shared machine's slow spells last minutes, and the ratio of a single
+        // run moved by 10-15% from run to run. Each figure below is the median over the rounds.
+        std::vector<SimRun> sims;
+        std::map<int, std::vector<ClusterRun>> runs;
+        for (unsigned round = 1; round <= rounds; ++round) {
+            const std::filesystem::path round_logs = logs / fmt::format("round-{}", round);
+            std::filesystem::create_directories(round_logs);
+            progress(fmt::format("cluster-scale: {} bodies in lpss-sim (round {} of {})", n, round, rounds));
+            sims.push_back(run_sim(scene, frames, round_logs));
+            for (int workers : worker_counts) {
+                progress(fmt::format("cluster-scale: {} bodies on {} worker(s) (round {} of {})", n, workers,
+                                     round, rounds));
+                const std::filesystem::path run_logs = round_logs / fmt::format("workers-{}", workers);
+                std::filesystem::create_directories(run_logs);
+                runs[workers].push_back(
+                    run_cluster(scene, n + moving + 1, workers, frames, domain++, run_logs, false));
             }
-            memory_lines += fmt::format("- {} bodies, {} worker(s): {}\n", n, workers, c.memory);
+        }
+        const double sim_ms = median_of(sims, &SimRun::mean_ms);
+        const double sim_load_s = median_of(sims, &SimRun::load_s);
+        const double sim_rss = median_of(sims, &SimRun::rss_mib);
+        const double sim_pss = median_of(sims, &SimRun::pss_mib);
+        for (int workers : worker_counts) {
+            const std::vector<ClusterRun>& c = runs.at(workers);
+            // Ratios round by round, each against its own round's lpss-sim.
+            std::vector<double> budget, start, rss, pss;
+            for (std::size_t r = 0; r < c.size(); ++r) {
+                budget.push_back(c[r].mean_ms / (1.5 * sims[r].mean_ms + 1.0));
+                start.push_back(c[r].first_frame_s / sims[r].load_s);
+                rss.push_back(c[r].rss_mib / sims[r].rss_mib);
+                pss.push_back(c[r].pss_mib / sims[r].pss_mib);
+            }
+            if (workers == 1) {
+                held.coordinator.push_back(median_of(c, &ClusterRun::coordinator_mib));
+                held.worker.push_back(median_of(c, &ClusterRun::first_worker_mib));
+            }
+            memory_lines += fmt::format("- {} bodies, {} worker(s), round {}: {}\n", n, workers, c.size(),
+                                        c.back().memory);
             table.add({std::to_string(n),
                        std::to_string(workers),
-                       num(c.first_frame_s, 4),
-                       num(sim.load_s, 4),
-                       num(c.first_frame_s / sim.load_s, 3),
-                       num(c.mean_ms, 4),
-                       num(c.p99_ms, 4),
-                       num(sim.mean_ms, 4),
-                       num(sim.p99_ms, 4),
-                       num(1.5 * sim.mean_ms + 1.0, 4),
-                       num(c.rss_mib, 5),
-                       num(sim.rss_mib, 5),
-                       num(c.rss_mib / sim.rss_mib, 3),
-                       num(c.pss_mib, 5),
-                       num(sim.pss_mib, 5),
-                       num(c.pss_mib / sim.pss_mib, 3),
-                       num(c.peak_mib, 5),
-                       num(sim.peak_mib, 5),
-                       num(c.bytes_max, 5),
-                       num(c.bytes_mean, 5),
-                       num(c.held_share, 3),
-                       num(c.step_max_ms, 4),
-                       num(c.publish_max_ms, 4)});
+                       num(median_of(c, &ClusterRun::first_frame_s), 4),
+                       num(sim_load_s, 4),
+                       num(median(start), 3),
+                       num(median_of(c, &ClusterRun::mean_ms), 4),
+                       num(median_of(c, &ClusterRun::p99_ms), 4),
+                       num(sim_ms, 4),
+                       num(median_of(sims, &SimRun::p99_ms), 4),
+                       num(1.5 * sim_ms + 1.0, 4),
+                       num(median_of(c, &ClusterRun::rss_mib), 5),
+                       num(sim_rss, 5),
+                       num(median(rss), 3),
+                       num(median_of(c, &ClusterRun::pss_mib), 5),
+                       num(sim_pss, 5),
+                       num(median(pss), 3),
+                       num(median_of(c, &ClusterRun::peak_mib), 5),
+                       num(median_of(sims, &SimRun::peak_mib), 5),
+                       num(median_of(c, &ClusterRun::bytes_max), 5),
+                       num(median_of(c, &ClusterRun::bytes_mean), 5),
+                       num(median_of(c, &ClusterRun::held_share), 3),
+                       num(median_of(c, &ClusterRun::step_max_ms), 4),
+                       num(median_of(c, &ClusterRun::publish_max_ms), 4),
+                       std::to_string(c.size()),
+                       num(median(budget), 3),
+                       num(*std::min_element(budget.begin(), budget.end()), 3),
+                       num(*std::max_element(budget.begin(), budget.end()), 3)});
         }
         // A whole-world client of changes beside 2 workers: what a client holds, and whether it keeps up.
         progress(fmt::format("cluster-scale: {} bodies on 2 workers, with a whole-world client", n));
@@ -289,7 +333,7 @@ void run_cluster_scale(const Context& context) {
         std::filesystem::create_directories(client_logs);
         const ClusterRun c = run_cluster(scene, n + moving + 1, 2, frames, domain++, client_logs, true);
         held.sizes.push_back(static_cast<double>(n + moving + 1));
-        held.sim.push_back(sim.rss_mib);
+        held.sim.push_back(sim_rss);
         held.client.push_back(c.client_mib);
         clients.add({std::to_string(n), num(c.client_frames, 4), std::to_string(frames), num(c.client_mib, 5),
                      num(c.client_peak_mib, 5), num(c.mean_ms, 4)});
@@ -313,7 +357,12 @@ void run_cluster_scale(const Context& context) {
         fmt::format(
             "scenes::resting_world: N resting bodies of five shapes, 3 units apart on a ground plane, "
             "starting asleep, in sectors of 64; {} balls thrown across the middle (the same at every N). "
-            "{} frames, unpaced. first_frame_s: from starting lpss-cluster to the first frame ended by "
+            "{} frames, unpaced. Each size is run {} time(s) over, lpss-sim and then each cluster in "
+            "turn; every figure is the median over those rounds, and every ratio is taken within its round "
+            "(start_ratio, rss_ratio, pss_ratio; budget_ratio: the cluster's mean frame over 1.5 x its "
+            "round's lpss-sim mean + 1 ms, the target being 1 or less, with budget_ratio_low and "
+            "budget_ratio_high its extremes over the rounds, the bars in the plot). first_frame_s: from "
+            "starting lpss-cluster to the first frame ended by "
             "every worker (as a DDS reader beside the cluster sees it); sim_load_s: lpss-sim reading the "
             "scene and building its world. ms_per_frame, p99_ms: time between frames ended by every "
             "worker, frames 2 on; sim_: lpss-sim's frames 2 on; frame_budget_ms: 1.5 x lpss-sim's mean "
@@ -325,7 +374,7 @@ void run_cluster_scale(const Context& context) {
             "frames; the busiest worker, and the mean over workers). held_share_max: bodies and ghosts "
             "of the worker holding most, over the world's bodies. step_ms_max, publish_ms_max: the "
             "busiest worker's engine step and sample writing per frame.\n\n",
-            moving, frames) +
+            moving, frames, rounds) +
         table.markdown() + "\nMemory of each process (resident, and at most):\n\n" + memory_lines +
         "\nA whole-world client beside 2 workers (lpss-watch: lpss::Client with FrameContent::changes, "
         "started before the cluster): the frames it returned of those the cluster ran, its memory at the "
@@ -350,17 +399,17 @@ plot '$CSV' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', 
      '$CSV' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'ms per frame / (1.5 x lpss-sim + 1 ms)'
-set title 'Running: frame time over its budget, mean (solid) and p99 (open)'
+set title "Running: frame over its budget, rounds' median and range; p99 open"
 set key top left maxrows 4 width 1 samplen 2
 set logscale y
 set yrange [0.5:12]
 set ytics (0.5, 0.75, 1, 1.5, 2, 3, 5, 8, 12)
-plot '$CSV' using 1:($2==1?$6/$10:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     '$CSV' using 1:($2==2?$6/$10:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     '$CSV' using 1:($2==4?$6/$10:NaN) with linespoints pt 9 lc 3 title '4 workers', \
-     '$CSV' using 1:($2==1?$7/$10:NaN) with points pt 6 lc 1 title '1 worker p99', \
+plot '$CSV' using ($1*0.94):($2==1?$25:NaN):26:27 with yerrorlines pt 7 lc 1 title '1 worker', \
+     '$CSV' using 1:($2==2?$25:NaN):26:27 with yerrorlines pt 5 lc 2 title '2 workers', \
+     '$CSV' using ($1*1.06):($2==4?$25:NaN):26:27 with yerrorlines pt 9 lc 3 title '4 workers', \
+     '$CSV' using ($1*0.94):($2==1?$7/$10:NaN) with points pt 6 lc 1 title '1 worker p99', \
      '$CSV' using 1:($2==2?$7/$10:NaN) with points pt 4 lc 2 title '2 workers p99', \
-     '$CSV' using 1:($2==4?$7/$10:NaN) with points pt 8 lc 3 title '4 workers p99', \
+     '$CSV' using ($1*1.06):($2==4?$7/$10:NaN) with points pt 8 lc 3 title '4 workers p99', \
      '$CSV' using 1:($2==1?$9/$10:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
      1 with lines dt 3 lc rgb 'black' title 'target'
 unset logscale y

@@ -47,11 +47,6 @@ void run_instances(const Context& context) {
     // count's time is compared with one sector's of the same round: this shared machine's slow spells
     // last seconds, and a single sweep's ratios moved by 0.84-1.38 from run to run.
     const int rounds = context.quick ? 2 : 7;
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        const std::size_t h = v.size() / 2;
-        return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-    };
     for (const Config& config : configs) {
         if (!config.runs_here()) continue;
         std::map<int, std::vector<double>> ms, ratio;

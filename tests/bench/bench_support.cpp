@@ -6,6 +6,7 @@
 #include <sys/utsname.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -230,6 +231,13 @@ void merge_twin(const Context& context, const std::string& subcommand, Table& ta
 }
 
 void progress(const std::string& what) { std::cerr << "lpss-bench: " << what << std::endl; }
+
+double median(std::vector<double> values) {
+    if (values.empty()) return std::nan("");
+    std::sort(values.begin(), values.end());
+    const std::size_t half = values.size() / 2;
+    return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+}
 
 // ---- timing with Google Benchmark
 

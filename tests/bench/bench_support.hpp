@@ -61,6 +61,7 @@ struct Context {
     bool keep = false;               ///< keep the scenes and logs a sub-command writes to a temporary folder
     bool security = false;           ///< cluster: with and without DDS Security, side by side
     std::vector<std::size_t> sizes;  ///< world sizes instead of the sub-command's own (when not empty)
+    unsigned rounds = 0;             ///< times a sub-command repeats its runs (0: its own default)
 };
 
 /// "2 x Intel(R) Xeon(R) ..., Linux 6.1, g++ 12.2.0, Bullet 3.24": the machine a result came from.
@@ -93,6 +94,9 @@ double ms_per_frame_fresh(const std::string& name, const std::function<World()>&
 double us_per_call(const std::string& name, const std::function<void()>& call, double min_seconds = 0.2);
 /// Mean real time to build a world with `make`, in microseconds; its destruction is not timed.
 double us_to_create(const std::string& name, const std::function<World()>& make, double min_seconds = 0.2);
+
+/// The middle value (the mean of the two middle ones for an even count); NaN for none.
+double median(std::vector<double> values);
 
 /// Bytes the process has allocated from the heap right now (glibc mallinfo2).
 std::size_t heap_bytes();

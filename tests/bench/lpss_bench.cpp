@@ -22,11 +22,17 @@ int main(int argc, char** argv) {
     bool keep = false;
     bool security = false;
     std::vector<std::size_t> sizes;
+    unsigned rounds = 0;
     app.add_option("--out", out, "output folder (a sub-folder per sub-command)");
     app.add_option("--twin", twin, "the float64 twin (default: lpss-bench-f64 beside this program)");
     app.add_flag("--quick", quick, "smaller sizes and fewer points: a smoke run");
     app.add_option("--bodies", sizes,
                    "world sizes to run instead of the default ones (cluster-scale, overhead)");
+    app.add_option(
+           "--rounds", rounds,
+           "times each size is run over, lpss-sim and every cluster in turn (cluster-scale; default 3, "
+           "1 with --quick)")
+        ->check(CLI::Range(1u, 100u));
     app.add_flag("--keep", keep,
                  "keep the scenes and logs of the runs (cluster-scale), to rerun one by hand");
     app.add_flag("--as-twin", as_twin, "internal: run the double configurations and print CSV");
@@ -67,6 +73,7 @@ int main(int argc, char** argv) {
     context.keep = keep;
     context.security = security;
     context.sizes = sizes;
+    context.rounds = rounds;
     context.twin =
         twin.empty() ? (std::filesystem::path(argv[0]).parent_path() / "lpss-bench-f64").string() : twin;
     context.command = "lpss-bench";
