@@ -164,6 +164,22 @@ ClusterRun run_cluster(const std::filesystem::path& scene, std::size_t bodies, i
     }
     r.mean_ms = mean(intervals);
     r.p99_ms = p99(intervals);
+    // Frame by frame, for whoever looks into a slow frame: when it ended here, and each worker's times.
+    {
+        std::ofstream csv(logs / "frames.csv");
+        csv << "frame,ended_s,interval_ms,worker,step_ms,wait_ms,publish_ms,received_bytes\n";
+        for (const auto& [f, frame] : marks) {
+            auto end = ended.find(f);
+            auto before = ended.find(f - 1);
+            const double interval = end != ended.end() && before != ended.end()
+                                        ? 1e3 * (end->second - before->second)
+                                        : std::nan("");
+            for (const auto& [w, m] : frame)
+                csv << f << ',' << (end != ended.end() ? end->second : std::nan("")) << ',' << interval << ','
+                    << w << ',' << m.step_ms() << ',' << m.wait_ms() << ',' << m.publish_ms() << ','
+                    << m.received_bytes() << '\n';
+        }
+    }
     std::map<std::uint32_t, std::vector<double>> bytes, steps, publishes;
     for (const auto& [f, frame] : marks) {
         if (f < 2) continue;
