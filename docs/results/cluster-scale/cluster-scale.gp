@@ -16,17 +16,17 @@ plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$5:NaN) with 
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'ms per frame / (1.5 x lpss-sim + 1 ms)'
-set title 'Running: frame time over its budget, mean (solid) and p99 (open)'
+set title "Running: frame over its budget, rounds' median and range; p99 open"
 set key top left maxrows 4 width 1 samplen 2
 set logscale y
 set yrange [0.5:12]
 set ytics (0.5, 0.75, 1, 1.5, 2, 3, 5, 8, 12)
-plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$6/$10:NaN) with linespoints pt 7 lc 1 title '1 worker', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$6/$10:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$6/$10:NaN) with linespoints pt 9 lc 3 title '4 workers', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$7/$10:NaN) with points pt 6 lc 1 title '1 worker p99', \
+plot 'docs/results/cluster-scale/cluster-scale.csv' using ($1*0.94):($2==1?$25:NaN):26:27 with yerrorlines pt 7 lc 1 title '1 worker', \
+     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$25:NaN):26:27 with yerrorlines pt 5 lc 2 title '2 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*1.06):($2==4?$25:NaN):26:27 with yerrorlines pt 9 lc 3 title '4 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*0.94):($2==1?$7/$10:NaN) with points pt 6 lc 1 title '1 worker p99', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$7/$10:NaN) with points pt 4 lc 2 title '2 workers p99', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$7/$10:NaN) with points pt 8 lc 3 title '4 workers p99', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*1.06):($2==4?$7/$10:NaN) with points pt 8 lc 3 title '4 workers p99', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$9/$10:NaN) with points pt 12 lc 4 title 'lpss-sim p99', \
      1 with lines dt 3 lc rgb 'black' title 'target'
 unset logscale y
