@@ -2945,6 +2945,9 @@ TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
                a.linear_velocity == b.linear_velocity && a.awake == b.awake;
     };
     for (const auto& [f, frame] : seen) {
+        ASSERT_TRUE(std::is_sorted(frame.bodies.begin(), frame.bodies.end(),
+                                   [](const BodyView& a, const BodyView& b) { return a.id < b.id; }))
+            << "a frame's bodies in id order, its planes among them: frame " << f;
         if (auto it = whole_world.at.find(f); it != whole_world.at.end()) {
             ++compared;
             ASSERT_EQ(it->second.size(), frame.bodies.size()) << "frame " << f;

@@ -87,7 +87,7 @@ struct WorkerView {
 /// not change) and the ids of those that left the region or the world.
 struct WorldFrame {
     std::uint64_t frame = 0;
-    std::vector<BodyView> bodies;
+    std::vector<BodyView> bodies;  ///< in id order, planes among them
     std::vector<BodyId> departed;  ///< with FrameContent::changes: gone since the frame before
     bool every_body = true;        ///< `bodies` holds every body of the region (a first frame of changes)
     /// When the coordinator started the frame (wall clock): frames of a --realtime cluster come dt apart,
