@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -42,6 +43,20 @@ struct Counts {
     }
 };
 
+/// The world rebuilt from frames of changes, every body in id order, for the CSV. A client of every body
+/// builds a view of the whole world for each frame (some 190 MB at a million bodies), and one that fell
+/// behind, a view for each frame it is behind, in one poll.
+struct Rebuilt {
+    std::map<lpss::BodyId, lpss::BodyView> bodies;
+    void take(const lpss::WorldFrame& f) {
+        if (f.every_body) bodies.clear();
+        for (const lpss::BodyView& b : f.bodies)
+            bodies[b.id] = b;
+        for (lpss::BodyId id : f.departed)
+            bodies.erase(id);
+    }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -65,8 +80,9 @@ int main(int argc, char** argv) {
     app.add_option("--frames", frames, "exit after this many frames (0: until Ctrl-C)");
     app.add_option("--wait-s", wait_s, "how long to wait for a cluster");
     CLI11_PARSE(app, argc, argv);
-    // Printing needs only what changed (the counts are kept here); CSV writes every body of every frame.
-    options.content = csv_path.empty() ? lpss::FrameContent::changes : lpss::FrameContent::every_body;
+    // Frames of changes: printing needs only the counts kept here, and the CSV's every body of every frame
+    // is rebuilt here from them.
+    options.content = lpss::FrameContent::changes;
     if (!region.empty()) {
         auto r = lpss::parse_region(region);
         if (!r) {
@@ -97,6 +113,7 @@ int main(int argc, char** argv) {
     const lpss::SectorGrid grid = *(*client)->grid();
     std::uint64_t seen = 0;
     Counts world;
+    Rebuilt rebuilt;
     auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(2);
     auto last_data = std::chrono::steady_clock::now();
     int exit_code = 0;
@@ -125,7 +142,8 @@ int main(int argc, char** argv) {
             ++seen;
             newest = f.frame;
             if (csv) {
-                for (const lpss::BodyView& b : f.bodies) {
+                rebuilt.take(f);
+                for (const auto& [id, b] : rebuilt.bodies) {
                     lpss::BodySnapshot s{
                         b.id, b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.awake};
                     lpss::write_state_csv_row(csv, f.frame, s, grid);
