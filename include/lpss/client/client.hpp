@@ -35,8 +35,10 @@ Expected<Region> parse_region(const std::string& text);
 
 /// What each frame a client returns holds.
 enum class FrameContent {
-    every_body,  ///< every body of the region: simple, and costs per frame what the region holds
-    changes,     ///< what changed since the frame before (the first frame: every body); costs what moves
+    /// Every body of the region: simple, and costs per frame what the region holds; a client that fell N
+    /// frames behind gets N views of its whole region from one poll (for a large world, take changes).
+    every_body,
+    changes,  ///< what changed since the frame before (the first frame: every body); costs what moves
 };
 
 struct ClientOptions {
