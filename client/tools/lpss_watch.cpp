@@ -44,7 +44,7 @@ struct Counts {
 };
 
 /// The world rebuilt from frames of changes, every body in id order, for the CSV. A client of every body
-/// builds a view of the whole world for each frame (some 190 MB at a million bodies), and one that fell
+/// builds a view of the whole world for each frame (176 MB at a million bodies), and one that fell
 /// behind, a view for each frame it is behind, in one poll.
 struct Rebuilt {
     std::map<lpss::BodyId, lpss::BodyView> bodies;
