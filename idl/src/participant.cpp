@@ -352,6 +352,9 @@ Qos with_delivery(Qos q, const Delivery& d) {
 
 fdds::DataWriterQos writer_qos(const Delivery& d) {
     fdds::DataWriterQos q = with_delivery(fdds::DATAWRITER_QOS_DEFAULT, d);
+    // The writer's alone: a reader's lifespan is its own QoS in Fast DDS 2.9, so readers drop nothing they
+    // have not taken.
+    if (d.lifespan_ms > 0) q.lifespan().duration = eprosima::fastrtps::Duration_t(d.lifespan_ms / 1000.0);
     // Readers filter for themselves (workers' recipient filters, clients' regions), not the writers: Fast
     // DDS 2.9 does not leave room for the filter's inline QoS when it cuts a large sample into fragments
     // (RTPSWriter::calculateMaxDataSize: "inlineqos in future"), so a filtered sample over ~64 KB is never

@@ -1,9 +1,11 @@
 // The wire layer: the built-in local profile lets participants find each other, samples keep their
-// keys and floats, a late joiner gets durable samples, a region filter keeps only its sectors, and a
-// process's own sector samples stay out of its own sector reader.
+// keys and floats, a late joiner gets durable samples, a region filter keeps only its sectors, a
+// process's own sector samples stay out of its own sector reader, and a worker's sector writer keeps none
+// older than its lifespan.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <thread>
 
 #include "eventually.hpp"
@@ -21,6 +23,7 @@ namespace {
 // reached the late joiner's readers when the two ran together under -j2).
 constexpr int kDomain = 171;
 constexpr int kOwnPartitionDomain = 189;
+constexpr int kLifespanDomain = 194;
 
 // Every participant leaves port files in /dev/shm; the suite removes its domain's when it ends.
 class RemoveSharedMemory : public ::testing::Environment {
@@ -28,6 +31,7 @@ public:
     void TearDown() override {
         remove_abandoned_shm(kDomain);
         remove_abandoned_shm(kOwnPartitionDomain);
+        remove_abandoned_shm(kLifespanDomain);
     }
 };
 const ::testing::Environment* const kRemoveSharedMemory =
@@ -258,6 +262,58 @@ TEST(Wire, ASectorReaderGetsEveryOtherProcesssSamplesAndNotItsOwn) {
     EXPECT_EQ(to_client, (std::vector<std::uint32_t>{1, 2}));
     EXPECT_EQ(a_in.matched(), 1);
     EXPECT_EQ(b_in.matched(), 1);
+}
+
+// A worker's sector writer keeps its samples half a second (kSectorFrameDelivery's lifespan), not as long
+// as its depth would: most of a worker's memory beyond its world's was seconds of old samples. A reader that
+// joins later gets none of them (it asks for what it lacks, docs/protocol.md), while a writer with the same
+// QoS but no lifespan still hands its late joiner every one: the lifespan, not discovery's timing, is what
+// drops them.
+TEST(Wire, AWorkersSectorWriterKeepsNoSampleOlderThanItsLifespan) {
+    auto pub = Participant::create(kLifespanDomain, "", "lifespan-pub");
+    ASSERT_TRUE(pub.ok()) << pub.error().message;
+    fdds::Topic* topic = (*pub)->topic<wire::SectorFramePubSubType>(kSectorFrames);
+    ASSERT_GT(kSectorFrameDelivery.lifespan_ms, 0);
+    Delivery without_lifespan = kSectorFrameDelivery;
+    without_lifespan.lifespan_ms = 0;
+    Writer<wire::SectorFrame> bounded(**pub, topic, writer_qos(kSectorFrameDelivery));
+    Writer<wire::SectorFrame> unbounded(**pub, topic, writer_qos(without_lifespan));
+    ASSERT_TRUE(bounded.ok() && unbounded.ok());
+    auto sample = [](std::uint32_t worker, std::uint64_t frame) {
+        wire::SectorFrame f = frame_of({0, 0, 0}, frame, static_cast<BodyId>(frame + 1), 0);
+        f.worker(worker);  // the instance: one per writer
+        return f;
+    };
+    constexpr std::uint64_t kOld = 10;
+    for (std::uint64_t frame = 0; frame < kOld; ++frame) {
+        ASSERT_TRUE(bounded.write(sample(1, frame)));
+        ASSERT_TRUE(unbounded.write(sample(2, frame)));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2 * kSectorFrameDelivery.lifespan_ms + 200));
+
+    auto sub = Participant::create(kLifespanDomain, "", "lifespan-late-joiner");
+    ASSERT_TRUE(sub.ok()) << sub.error().message;
+    Inbox inbox;
+    Reader<wire::SectorFrame> late(**sub, (*sub)->topic<wire::SectorFramePubSubType>(kSectorFrames),
+                                   reader_qos(kSectorFrameReading), &inbox);
+    ASSERT_TRUE(late.ok());
+    ASSERT_TRUE(eventually([&] { return late.matched() == 2; })) << late.matched() << " writers matched";
+    // One sample more from the bounded writer, after the match: a reliable writer's samples come in order,
+    // so once it is in, whatever that writer's history held is in too.
+    ASSERT_TRUE(bounded.write(sample(1, 100)));
+    std::map<std::uint32_t, std::vector<std::uint64_t>> frames_from;
+    ASSERT_TRUE(eventually([&] {
+        late.take_all([&](const wire::SectorFrame& f, const fdds::SampleInfo& info) {
+            if (info.valid_data) frames_from[f.worker()].push_back(f.frame());
+        });
+        return !frames_from[1].empty() && frames_from[1].back() == 100 && frames_from[2].size() == kOld;
+    })) << frames_from[1].size()
+        << " samples from the writer with a lifespan, " << frames_from[2].size() << " from the one without";
+    EXPECT_EQ(frames_from[1], std::vector<std::uint64_t>{100}) << "samples older than the lifespan were kept";
+    std::vector<std::uint64_t> all_old(kOld);
+    for (std::uint64_t frame = 0; frame < kOld; ++frame)
+        all_old[frame] = frame;
+    EXPECT_EQ(frames_from[2], all_old);
 }
 
 }  // namespace
