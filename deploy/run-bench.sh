@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs lpss-bench sub-commands into docs/results/ and assembles docs/results.md from
-# docs/results.template.md, where {{NAME}} stands for the markdown NAME's run produced.
+# docs/results.template.md (deploy/assemble-results.sh), where {{NAME}} stands for the markdown NAME's run
+# produced.
 # usage: deploy/run-bench.sh [SUBCOMMAND ...]   (default: all; --assemble: only rebuild docs/results.md).
 # Takes a quiet machine and about an hour (cluster-scale alone, up to a million bodies: about 25 minutes).
 set -euo pipefail
@@ -15,21 +16,5 @@ for sub in "${subs[@]}"; do
     if [[ "$sub" == cluster-security ]]; then args=(cluster --security); else args=("$sub"); fi
     (cd "$root" && build/lpss-bench --out docs/results "${args[@]}" >/dev/null)
 done
-# {{NAME}} on a line of its own stands for docs/results/NAME/NAME.md, its pictures re-pointed.
-template="$root/docs/results.template.md"
-{
-    while IFS= read -r line; do
-        if [[ "$line" =~ ^\{\{([a-z_-]+)\}\}$ ]]; then
-            name="${BASH_REMATCH[1]}"
-            md="$out/$name/$name.md"
-            if [[ -f "$md" ]]; then
-                sed -E "s#\]\(($name[A-Za-z0-9_-]*\.png)\)#](results/$name/\1)#g" "$md"
-            else
-                echo "(not measured yet: run deploy/run-bench.sh $name)"
-            fi
-        else
-            printf '%s\n' "$line"
-        fi
-    done <"$template"
-} >"$root/docs/results.md"
+"$root/deploy/assemble-results.sh"
 echo "lpss: docs/results.md assembled"
