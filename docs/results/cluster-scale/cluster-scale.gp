@@ -10,10 +10,10 @@ set xlabel 'bodies at rest'
 set key top right font ',8'
 set grid
 set ylabel 'first frame / lpss-sim load'
-set title 'Start: time to the first frame, over lpss-sim loading the scene'
-plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+set title 'Start: time to the first frame, over lpss-sim loading the scene (worker counts offset)'
+plot 'docs/results/cluster-scale/cluster-scale.csv' using ($1*0.94):($2==1?$5:NaN) with linespoints pt 7 lc 1 title '1 worker', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$5:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*1.06):($2==4?$5:NaN) with linespoints pt 9 lc 3 title '4 workers', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'ms per frame / (1.5 x lpss-sim + 1 ms)'
 set title "Running: frame over its budget, rounds' median and range; p99 open"
@@ -37,17 +37,17 @@ set key top right font ',8'
 set ylabel 'all processes / lpss-sim'
 set title 'Memory, all processes over lpss-sim: resident (solid), shared pages once (dashed)'
 set key top right font ',8' maxrows 3
-plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
+plot 'docs/results/cluster-scale/cluster-scale.csv' using ($1*0.94):($2==1?$13:NaN) with linespoints pt 7 lc 1 title '1 worker', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$13:NaN) with linespoints pt 5 lc 2 title '2 workers', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==1?$16:NaN) with linespoints dt 2 pt 6 lc 1 title '1, Pss', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*1.06):($2==4?$13:NaN) with linespoints pt 9 lc 3 title '4 workers', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*0.94):($2==1?$16:NaN) with linespoints dt 2 pt 6 lc 1 title '1, Pss', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$16:NaN) with linespoints dt 2 pt 4 lc 2 title '2, Pss', \
-     'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$16:NaN) with linespoints dt 2 pt 8 lc 3 title '4, Pss', \
+     'docs/results/cluster-scale/cluster-scale.csv' using ($1*1.06):($2==4?$16:NaN) with linespoints dt 2 pt 8 lc 3 title '4, Pss', \
      1.5 with lines dt 3 lc rgb 'black' title 'target 1.5'
 set ylabel 'kB per frame'
 set title 'Bytes the busiest worker receives per frame'
 set key default
-set key top right font ',8'
+set key bottom right font ',8'
 plot 'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==2?$19/1000:NaN) with linespoints pt 5 lc 2 title '2 workers', \
      'docs/results/cluster-scale/cluster-scale.csv' using 1:($2==4?$19/1000:NaN) with linespoints pt 9 lc 3 title '4 workers'
 unset multiplot
