@@ -20,9 +20,11 @@ void FrameGate::take_ack(const wire::FrameAck& ack) {
     frame = std::max(frame, ack.frame());
 }
 
-void FrameGate::take_mark(const wire::WorkerFrame& mark) {
+void FrameGate::take_mark(const wire::WorkerFrame& mark, Clock::time_point came) {
     if (mark.worker() == self_ && self_ != 0) return;
-    std::vector<SectorKey>& written = marks_[{mark.worker(), mark.frame()}];
+    Mark& kept = marks_[{mark.worker(), mark.frame()}];
+    kept.came = came;
+    std::vector<SectorKey>& written = kept.written;
     written.clear();
     for (const wire::WrittenSector& w : mark.written()) {
         if (std::find(w.recipients().begin(), w.recipients().end(), self_) != w.recipients().end())
@@ -47,27 +49,25 @@ void FrameGate::started(std::uint64_t frame) { gos_.erase(gos_.begin(), gos_.upp
 
 bool FrameGate::whole(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
                       bool coordinator_wrote, const dds::SectorChain& chain) const {
-    auto arrived = [&](std::uint32_t worker) {
+    bool all = true;
+    for_each_awaited(previous, workers, coordinator_wrote, [&](std::uint32_t worker) {
         auto it = marks_.find({worker, previous});
-        if (it == marks_.end()) return false;  // which sectors it wrote is not known yet
-        for (const SectorKey& key : it->second) {
-            // A sample of that frame or later (a sample of frame 0, the world's first state, counts too).
-            if (!chain.holds(key, previous, ~std::uint64_t{0})) return false;
+        if (it == marks_.end()) {
+            all = false;  // which sectors it wrote is not known yet
+            return;
         }
-        return true;
-    };
-    if (coordinator_wrote && !arrived(0)) return false;
-    if (previous == 0) return true;  // workers write nothing before frame 1
-    for (std::uint32_t worker : workers) {
-        if (worker != self_ && !arrived(worker)) return false;
-    }
-    return true;
+        for (const SectorKey& key : it->second.written) {
+            // A sample of that frame or later (a sample of frame 0, the world's first state, counts too).
+            if (!chain.holds(key, previous, ~std::uint64_t{0})) all = false;
+        }
+    });
+    return all;
 }
 
 std::string FrameGate::missing(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
                                bool coordinator_wrote, const dds::SectorChain& chain) const {
     std::string out;
-    auto look = [&](std::uint32_t worker) {
+    for_each_awaited(previous, workers, coordinator_wrote, [&](std::uint32_t worker) {
         const std::string who =
             worker == 0 ? std::string("the coordinator") : "worker " + std::to_string(worker);
         auto it = marks_.find({worker, previous});
@@ -75,7 +75,7 @@ std::string FrameGate::missing(std::uint64_t previous, const std::vector<std::ui
             out += (out.empty() ? "" : "; ") + who + "'s end of the frame";
             return;
         }
-        for (const SectorKey& key : it->second) {
+        for (const SectorKey& key : it->second.written) {
             if (chain.holds(key, previous, ~std::uint64_t{0})) continue;
             out +=
                 (out.empty() ? "" : "; ") + who + "'s sample of sector (" + std::to_string(key.i) + ", " +
@@ -83,12 +83,22 @@ std::string FrameGate::missing(std::uint64_t previous, const std::vector<std::ui
                 (chain.newest(key) > 0 ? " (holds it as of frame " + std::to_string(chain.newest(key)) + ")"
                                        : "");
         }
-    };
-    if (coordinator_wrote) look(0);
-    if (previous == 0) return out;
-    for (std::uint32_t worker : workers) {
-        if (worker != self_) look(worker);
-    }
+    });
+    return out;
+}
+
+std::vector<SectorKey> FrameGate::samples_not_come(std::uint64_t previous,
+                                                   const std::vector<std::uint32_t>& workers,
+                                                   bool coordinator_wrote, const dds::SectorChain& chain,
+                                                   Clock::time_point listed_before) const {
+    std::vector<SectorKey> out;
+    for_each_awaited(previous, workers, coordinator_wrote, [&](std::uint32_t worker) {
+        auto it = marks_.find({worker, previous});
+        if (it == marks_.end() || it->second.came >= listed_before) return;
+        for (const SectorKey& key : it->second.written) {
+            if (!chain.holds(key, previous, ~std::uint64_t{0})) out.push_back(key);
+        }
+    });
     return out;
 }
 

@@ -6,6 +6,7 @@
 // raised the term, and the coordinator it replaced may still be about (stopped, cut off).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -25,8 +26,10 @@ public:
     void take_go(const wire::FrameGo& go);
     /// A standby coordinator's word that it holds the FrameGo of a frame.
     void take_ack(const wire::FrameAck& ack);
-    /// A WorkerFrame read from another worker or the coordinator (this worker's own are ignored).
-    void take_mark(const wire::WorkerFrame& mark);
+    using Clock = std::chrono::steady_clock;
+
+    /// A WorkerFrame read from another worker or the coordinator (this worker's own are ignored), at `came`.
+    void take_mark(const wire::WorkerFrame& mark, Clock::time_point came);
 
     /// The coordinator's word for `frame`, if it has come and the standby it names holds it.
     const wire::FrameGo* go(std::uint64_t frame) const;
@@ -45,6 +48,12 @@ public:
     /// What `whole` still waits for, in words (a frame that starts without it says so).
     std::string missing(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
                         bool coordinator_wrote, const dds::SectorChain& chain) const;
+    /// The sectors whose samples `whole` waits for though the mark that lists them (as written for this
+    /// worker, in `previous`) came before `listed_before`; a worker whose mark has not come is not counted.
+    /// A sample is written before its mark: one still missing that long after it was lost.
+    std::vector<SectorKey> samples_not_come(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
+                                            bool coordinator_wrote, const dds::SectorChain& chain,
+                                            Clock::time_point listed_before) const;
 
     /// Whether a worker's (0: the coordinator's) mark of `frame` has come.
     bool has_mark(std::uint32_t worker, std::uint64_t frame) const {
@@ -54,12 +63,27 @@ public:
     void forget_before(std::uint64_t frame);
 
 private:
+    /// Calls `look(worker)` for each writer whose end of `previous` this worker waits for: the coordinator
+    /// (worker 0) when it wrote, and past frame 0 every worker of `workers` but this one.
+    template <class Look>
+    void for_each_awaited(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
+                          bool coordinator_wrote, Look look) const {
+        if (coordinator_wrote) look(0);
+        if (previous == 0) return;  // workers write nothing before frame 1
+        for (std::uint32_t worker : workers) {
+            if (worker != self_) look(worker);
+        }
+    }
+
     std::uint32_t self_;
     std::uint32_t term_ = 0;
     std::map<std::uint64_t, wire::FrameGo> gos_;    ///< of term_
     std::map<std::uint32_t, std::uint64_t> acked_;  ///< standby -> the latest frame it holds
-    /// (worker, frame) -> the sectors it wrote for this worker in that frame
-    std::map<std::pair<std::uint32_t, std::uint64_t>, std::vector<SectorKey>> marks_;
+    struct Mark {
+        std::vector<SectorKey> written;  ///< the sectors written for this worker
+        Clock::time_point came;
+    };
+    std::map<std::pair<std::uint32_t, std::uint64_t>, Mark> marks_;  ///< (worker, frame) -> its mark
 };
 
 }  // namespace lpss::worker

@@ -16,6 +16,10 @@
 namespace lpss::worker {
 namespace {
 
+/// How long after a mark came a sample it lists is taken as lost, and its sector asked for whole: past the
+/// time its writer keeps it for repair (it was written before the mark), with a heartbeat's room (100 ms).
+constexpr std::chrono::milliseconds kLostAfter{dds::kSectorFrameDelivery.lifespan_ms + 100};
+
 double ms_since(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
@@ -162,7 +166,7 @@ void Worker::State::pump() {
             std::copy(m.sector_reader().begin(), m.sector_reader().end(), reader.begin());
             sector_readers[m.worker()] = reader;
         }
-        gate.take_mark(m);
+        gate.take_mark(m, Clock::now());
         if (!world && m.frame() > 0) heard.insert(m.worker());
     });
     frames_in->take_all([&](wire::SectorFrame& f, const dds::fdds::SampleInfo& info) {
@@ -350,6 +354,7 @@ int Worker::run(const std::atomic<bool>& stop) {
         s.time_lost = go.time_lost();
         // The other workers' data of the previous frame, within a bounded wait.
         s.announce(go);
+        bool asked_whole = false;  // said once a frame
         while (!s.gate.whole(s.frame - 1, go.ended(), go.coordinator_wrote(), s.intake.chain()) &&
                !stop.load()) {
             if (s.coordinators.cut_off()) {
@@ -359,6 +364,21 @@ int Worker::run(const std::atomic<bool>& stop) {
                     "during frame {}: stopping without publishing; it is taken as gone (liveliness news: {})",
                     id, s.frame, s.coordinators.history());
                 return s.sit_out(stop);
+            }
+            // A sample a mark lists that has not come once its writer's history has let it go (the
+            // lifespan, topics.hpp) will not be repaired: its sector is asked for whole, as a client does
+            // (the owner answers at the end of its frame, and a sample of that frame or later is what the
+            // gate takes). Asked sooner, it would only double what repair still brings.
+            const std::vector<SectorKey> lost = s.gate.samples_not_come(
+                s.frame - 1, go.ended(), go.coordinator_wrote(), s.intake.chain(), Clock::now() - kLostAfter);
+            for (const SectorKey& key : lost)
+                s.intake.want_whole(key);
+            if (!lost.empty() && !asked_whole) {
+                asked_whole = true;
+                spdlog::warn(
+                    "worker {}: frame {} waits on {} sample(s) of frame {} still missing {} ms after "
+                    "their marks came: asked for whole",
+                    id, s.frame, lost.size(), s.frame - 1, kLostAfter.count());
             }
             if (Clock::now() - wait_start > s.options.border_wait) {
                 ++s.degraded;
