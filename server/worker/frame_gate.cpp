@@ -93,6 +93,9 @@ std::vector<SectorKey> FrameGate::samples_not_come(std::uint64_t previous,
                                                    Clock::time_point listed_before) const {
     std::vector<SectorKey> out;
     for_each_awaited(previous, workers, coordinator_wrote, [&](std::uint32_t worker) {
+        // The coordinator's samples stay in its writers' history until every reader has them: repair
+        // brings them, however long they take (the world's first state, at a million bodies).
+        if (worker == 0) return;
         auto it = marks_.find({worker, previous});
         if (it == marks_.end() || it->second.came >= listed_before) return;
         for (const SectorKey& key : it->second.written) {

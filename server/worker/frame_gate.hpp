@@ -48,9 +48,10 @@ public:
     /// What `whole` still waits for, in words (a frame that starts without it says so).
     std::string missing(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
                         bool coordinator_wrote, const dds::SectorChain& chain) const;
-    /// The sectors whose samples `whole` waits for though the mark that lists them (as written for this
-    /// worker, in `previous`) came before `listed_before`; a worker whose mark has not come is not counted.
-    /// A sample is written before its mark: one still missing that long after it was lost.
+    /// The sectors whose samples from other workers `whole` waits for though the mark that lists them (as
+    /// written for this worker, in `previous`) came before `listed_before`; a worker whose mark has not come
+    /// is not counted, nor the coordinator (its writers keep what they wrote until every reader has it). A
+    /// sample is written before its mark: one still missing long after its mark came was lost.
     std::vector<SectorKey> samples_not_come(std::uint64_t previous, const std::vector<std::uint32_t>& workers,
                                             bool coordinator_wrote, const dds::SectorChain& chain,
                                             Clock::time_point listed_before) const;
