@@ -20,14 +20,14 @@ namespace lpss::worker {
 
 class FrameGate {
 public:
+    using Clock = std::chrono::steady_clock;
+
     explicit FrameGate(std::uint32_t self) : self_(self) {}
 
     /// A FrameGo read from the coordinator (kept until its frame starts).
     void take_go(const wire::FrameGo& go);
     /// A standby coordinator's word that it holds the FrameGo of a frame.
     void take_ack(const wire::FrameAck& ack);
-    using Clock = std::chrono::steady_clock;
-
     /// A WorkerFrame read from another worker or the coordinator (this worker's own are ignored), at `came`.
     void take_mark(const wire::WorkerFrame& mark, Clock::time_point came);
 
