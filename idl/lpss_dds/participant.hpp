@@ -252,22 +252,27 @@ private:
     fdds::DataWriter* writer_;
 };
 
+/// What a reader tells its inbox of.
+enum class Wake {
+    on_data,  ///< every sample that comes, matches and liveliness
+    /// Matches and liveliness only: for samples a loop takes whenever something else woke it. Each wake is
+    /// a futex call on both sides and a context switch (docs/protocol.md, "A standby coordinator").
+    on_news,
+};
+
 /// A typed data reader that reports to an inbox (or to a listener that tells one).
 template <class T>
 class Reader {
 public:
     Reader(Participant& participant, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
-           fdds::DataReaderListener* inbox)
-        : Reader(participant.subscriber(), topic, qos, inbox) {}
+           fdds::DataReaderListener* inbox, Wake wake = Wake::on_data)
+        : Reader(participant.subscriber(), topic, qos, inbox, wake) {}
     /// On a subscriber of the participant's other than its default one (Participant::sector_subscriber).
     Reader(fdds::Subscriber* subscriber, fdds::TopicDescription* topic, const fdds::DataReaderQos& qos,
-           fdds::DataReaderListener* inbox)
+           fdds::DataReaderListener* inbox, Wake wake = Wake::on_data)
         : subscriber_(subscriber),
-          reader_(subscriber->create_datareader(topic, qos, inbox,
-                                                inbox ? fdds::StatusMask::data_available()
-                                                            << fdds::StatusMask::subscription_matched()
-                                                            << fdds::StatusMask::liveliness_changed()
-                                                      : fdds::StatusMask::none())) {}
+          inbox_(inbox),
+          reader_(subscriber->create_datareader(topic, qos, inbox, status_mask(inbox, wake))) {}
     ~Reader() {
         if (reader_) subscriber_->delete_datareader(reader_);
     }
@@ -303,12 +308,23 @@ public:
         reader_->get_subscription_matched_status(status);
         return status.current_count;
     }
+    /// What it tells its inbox of from now on. (Fast DDS 2.9 sets the mask without a lock: a sample its
+    /// receiving thread delivers at that moment may be told of under the old one, a wake more or less.)
+    void wake(Wake wake) { reader_->set_listener(inbox_, status_mask(inbox_, wake)); }
     /// Samples received and not taken yet.
     std::uint64_t unread() const { return reader_->get_unread_count(); }
     fdds::DataReader* raw() { return reader_; }
 
 private:
+    static fdds::StatusMask status_mask(const fdds::DataReaderListener* inbox, Wake wake) {
+        if (inbox == nullptr) return fdds::StatusMask::none();
+        fdds::StatusMask news = fdds::StatusMask::subscription_matched()
+                                << fdds::StatusMask::liveliness_changed();
+        return wake == Wake::on_data ? news << fdds::StatusMask::data_available() : news;
+    }
+
     fdds::Subscriber* subscriber_;
+    fdds::DataReaderListener* inbox_;
     fdds::DataReader* reader_;
 };
 

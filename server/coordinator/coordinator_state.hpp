@@ -299,6 +299,8 @@ struct Coordinator::State {
     /// kStartTheWorld: the coordinator went before it sent any of the world (start_instead).
     Expected<std::uint64_t> follow(const std::atomic<bool>& stop);
     static constexpr std::uint64_t kStartTheWorld = ~std::uint64_t{0};
+    /// No longer standing by: this coordinator runs the frames (take_over, start_instead).
+    void lead();
     void take_over(const wire::FrameGo& last);
     /// Commands read while standing by, neither applied nor answered by the coordinator that went: this
     /// one's now, accepted or refused in the order read. Returns how many.

@@ -250,8 +250,13 @@ void Coordinator::State::forget_lapses_outlived(const wire::FrameGo& go) {
     }
 }
 
-void Coordinator::State::start_instead() {
+void Coordinator::State::lead() {
     standing_by = false;
+    marks_in->wake(dds::Wake::on_data);  // a coordinator waits for the marks of each frame
+}
+
+void Coordinator::State::start_instead() {
+    lead();
     // The coordinator that went never started a frame: its term was the first.
     term = 2;
     // What it wrote of the world before it went (the planes, durable) comes again from the scene.
@@ -280,7 +285,7 @@ std::size_t Coordinator::State::decide_standing_commands() {
 }
 
 void Coordinator::State::take_over(const wire::FrameGo& go) {
-    standing_by = false;
+    lead();
     term = go.term() + 1;
     frame = go.frame();
     last_go = go;
