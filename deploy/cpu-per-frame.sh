@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# CPU time per frame of each process of a localhost cluster: runs lpss-cluster on a scene in a loopback-only
-# network namespace of its own, reads each process's user+system time from /proc and the frame from the
-# live line twice, FROM and TO seconds after the start, and prints the difference per frame.
+# CPU time and wakes per frame of each process of a localhost cluster: runs lpss-cluster on a scene in a
+# loopback-only network namespace of its own, reads each process's user+system time and voluntary context
+# switches (all its threads, and its main thread) from /proc and the frame from the live line twice, FROM
+# and TO seconds after the start, and prints the difference per frame.
 # usage: deploy/cpu-per-frame.sh SCENE WORKERS [FROM TO [DOMAIN]]   (defaults: 6 s, 10 s, domain 230)
 # Uses build/server/lpss-cluster (deploy/setup.sh builds it). Long scenes: make FROM later than the load.
 set -euo pipefail
@@ -13,12 +14,15 @@ unshare -rn sh -c "ip link set lo up; exec '$root/build/server/lpss-cluster' '$s
 cluster=$!
 trap 'kill $cluster 2>/dev/null; wait $cluster 2>/dev/null; rm -rf "$out"' EXIT
 ticks=$(getconf CLK_TCK)
-# One line per process: pid, user+system ticks, and what it is (worker N, coordinator, standby).
+# One line per process: pid, user+system ticks, voluntary context switches of all its threads and of its
+# main thread (each a wait that ended: a wake), and what it is (worker N, coordinator, standby).
 sample() {
     for pid in $(pgrep -f "lpss-(worker|coordinator) --domain $domain "); do
-        local times
+        local times wakes main
         times=$(awk '{ print $14 + $15 }' "/proc/$pid/stat" 2>/dev/null) || continue
-        echo "$pid $times $(tr '\0' ' ' <"/proc/$pid/cmdline" | awk '{ print ($1 ~ /worker$/) ? "worker_" $5 : (/--standby/ ? "standby" : "coordinator") }')"
+        wakes=$(cat /proc/"$pid"/task/*/status 2>/dev/null | awk '/^voluntary_ctxt_switches/ { n += $2 } END { print n + 0 }')
+        main=$(awk '/^voluntary_ctxt_switches/ { print $2 }' "/proc/$pid/status" 2>/dev/null) || continue
+        echo "$pid $times $wakes $main $(tr '\0' ' ' <"/proc/$pid/cmdline" | awk '{ print ($1 ~ /worker$/) ? "worker_" $5 : (/--standby/ ? "standby" : "coordinator") }')"
     done
 }
 frame() { grep -a '^frame' "$out/cluster.out" | tail -n 1 | awk '{ print $2 }'; }
@@ -31,9 +35,10 @@ if [[ -z "$f1" || -z "$f2" || "$f2" -le "$f1" ]]; then
     tail -n 5 "$out/cluster.out" >&2
     exit 1
 fi
-echo "frames $f1 to $f2 ($scene, $workers worker(s)); CPU ms per frame:"
+echo "frames $f1 to $f2 ($scene, $workers worker(s)); per frame: CPU ms, wakes of all threads, of the main thread:"
 awk -v frames=$((f2 - f1)) -v ticks="$ticks" '
-    NR == FNR { before[$1] = $2; next }
+    NR == FNR { before[$1] = $2; wakes[$1] = $3; main[$1] = $4; next }
     ($1 in before) { ms = 1000 * ($2 - before[$1]) / ticks / frames; total += ms
-                     printf "%8.2f  %s (pid %s)\n", ms, $3, $1 }
+                     printf "%8.2f %6.1f %6.1f  %s (pid %s)\n", ms, ($3 - wakes[$1]) / frames,
+                            ($4 - main[$1]) / frames, $5, $1 }
     END { printf "%8.2f  all\n", total }' <(echo "$s1") <(echo "$s2" | sort -n)

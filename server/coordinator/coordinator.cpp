@@ -126,9 +126,9 @@ Expected<std::unique_ptr<Coordinator>> Coordinator::create(const CoordinatorOpti
                                                 reader_qos_on_own_port(kCommandDelivery), &state->inbox);
     // Sector samples do not wake the loop: it takes them when a mark, a start or an acknowledgement does
     // (a worker writes its samples before its mark), or within its 5 ms waits. Woken by each (and a standby
-    // by each mark), the coordinator's loop woke some 14 times a frame at 10,000 bodies on two workers, and
-    // the standby's as often, mostly for nothing (while the coordinator waits for the standby's
-    // acknowledgement, it takes no sample); now 4 and 2.5 (docs/protocol.md, "A standby coordinator").
+    // by each mark), the coordinator's loop woke some 13 times a frame at 10,000 bodies on two workers, and
+    // the standby's 12, mostly for nothing (while the coordinator waits for the standby's acknowledgement,
+    // it takes no sample); now 3.5 and 2.5 (docs/protocol.md, "A standby coordinator").
     state->sectors_in = std::make_unique<Reader<wire::SectorFrame>>(
         p.sector_subscriber(), sectors, reader_qos(kSectorFrameReading), &state->inbox, Wake::on_news);
     if (!state->go_out->ok() || !state->assignment_out->ok() || !state->planes_out->ok() ||
