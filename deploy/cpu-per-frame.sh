@@ -40,11 +40,12 @@ threads() {
         done
     done
 }
+maybe_threads() { if [[ "${THREADS:-}" == 1 ]]; then threads; fi; }
 frame() { grep -a '^frame' "$out/cluster.out" | tail -n 1 | awk '{ print $2 }'; }
 sleep "$from"
-f1=$(frame) s1=$(sample) t1=$([[ "${THREADS:-}" == 1 ]] && threads || true)
+f1=$(frame) s1=$(sample) t1=$(maybe_threads)
 sleep "$((to - from))"
-f2=$(frame) s2=$(sample) t2=$([[ "${THREADS:-}" == 1 ]] && threads || true)
+f2=$(frame) s2=$(sample) t2=$(maybe_threads)
 if [[ -z "$f1" || -z "$f2" || "$f2" -le "$f1" ]]; then
     echo "no frames between ${from} s and ${to} s; lpss-cluster said:" >&2
     tail -n 5 "$out/cluster.out" >&2
