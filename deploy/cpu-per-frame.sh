@@ -5,8 +5,9 @@
 # and TO seconds after the start, and prints the difference per frame.
 # usage: deploy/cpu-per-frame.sh SCENE WORKERS [FROM TO [DOMAIN]]   (defaults: 6 s, 10 s, domain 230)
 # THREADS=1 also prints each process's threads that were woken at least once a frame: CPU and wakes a frame,
-# and what the thread was waiting in when last seen asleep (the kernel's wchan: futex_do_wait for a thread
-# woken by another, such as Fast DDS's event thread; __skb_wait_for_more_packets for a receiving thread).
+# and what the thread was waiting in at the second reading (the kernel's wchan, '-' if it was running then:
+# futex_do_wait for a thread woken by another, such as Fast DDS's event thread; __skb_wait_for_more_packets
+# for a receiving thread).
 # Uses build/server/lpss-cluster (deploy/setup.sh builds it). Long scenes: make FROM later than the load.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
