@@ -17,6 +17,7 @@ void CoordinatorWatch::note(const dds::fdds::InstanceHandle_t& writer, const cha
 
 void CoordinatorWatch::follow(const std::vector<dds::Inbox::Liveliness>& changes) {
     const auto now = Clock::now();
+    const bool none_before = none_counted();
     for (const dds::Inbox::Liveliness& change : changes) {
         note(change.writer, change.alive ? "alive" : (change.merged ? "lapsed (merged)" : "lapsed"),
              change.alive_count);
@@ -34,6 +35,26 @@ void CoordinatorWatch::follow(const std::vector<dds::Inbox::Liveliness>& changes
         note(writer, "lapse confirmed", alive_count_);
         alive_.erase(writer);
     }
+    if (!none_before && none_counted()) {
+        none_alive_since_ = now;
+        none_alive_since_ns_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::system_clock::now().time_since_epoch())
+                                   .count();
+    }
+}
+
+void CoordinatorWatch::heard(const dds::fdds::InstanceHandle_t& writer, std::int64_t written_ns) {
+    lapses_.heard(writer, written_ns);
+    // Written since none was alive here: a coordinator speaks (a standby that took over, or one heard again
+    // once a link came back) whatever its DDS liveliness said or did not say.
+    if (none_alive() && written_ns > none_alive_since_ns_) {
+        note(writer, "heard writing", alive_count_);
+        alive_.insert(writer);
+    }
+}
+
+bool CoordinatorWatch::cut_off() const {
+    return none_alive() && (!standby_follows_ || Clock::now() - none_alive_since_ >= kTakeover);
 }
 
 std::string CoordinatorWatch::history() const {

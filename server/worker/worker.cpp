@@ -342,6 +342,7 @@ int Worker::run(const std::atomic<bool>& stop) {
         }
         const wire::FrameGo go = *next;
         s.gate.started(go.frame());
+        s.coordinators.standby_follows(go.standby() != 0 && !go.stop());
         if (go.stop()) {
             spdlog::info("worker {}: stopped by the coordinator after frame {}", id, s.frame);
             s.deliver_before_going(std::chrono::seconds(1));
@@ -380,7 +381,9 @@ int Worker::run(const std::atomic<bool>& stop) {
                     "their marks came: asked for whole",
                     id, s.frame, lost.size(), s.frame - 1, kLostAfter.count());
             }
-            if (Clock::now() - wait_start > s.options.border_wait) {
+            // Not while no coordinator is heard: a frame published degraded then would be stale should this
+            // worker be cut off (it is taken as gone once the standby's time to take over has passed).
+            if (Clock::now() - wait_start > s.options.border_wait && !s.coordinators.none_alive()) {
                 ++s.degraded;
                 spdlog::warn(
                     "worker {}: frame {} starts without all border data of frame {} (degraded): {}", id,

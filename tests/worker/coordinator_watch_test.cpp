@@ -1,6 +1,8 @@
 // When a worker takes itself as cut off from every coordinator: only once a writer it heard has lapsed for
 // its grace, never while the frame start reader still counts one alive (a report that merged two writers'
-// changes names one of them), and not if the writer's newer frame starts show it alive.
+// changes names one of them), not if the writer's newer frame starts show it alive, and, when a standby
+// followed the frame, not before the standby has had its time to take over (its coming alive may have gone
+// unreported altogether).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -28,6 +30,12 @@ dds::Inbox::Liveliness change(std::uint8_t n, bool alive, std::int32_t alive_cou
 
 /// Longer than any grace a lapse gets (ConfirmedLapses: 150 ms, or 450 ms for one beside another's).
 void past_grace() { std::this_thread::sleep_for(std::chrono::milliseconds(600)); }
+
+std::int64_t wall_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
 
 TEST(CoordinatorWatch, IsNotCutOffBeforeAnyCoordinatorWasHeard) {
     CoordinatorWatch watch(1);
@@ -62,10 +70,7 @@ TEST(CoordinatorWatch, AWriterComingBackAliveWithinItsGraceIsNotALapse) {
 TEST(CoordinatorWatch, AFrameStartWrittenAfterTheLapseShowsTheWriterAlive) {
     CoordinatorWatch watch(1);
     watch.follow({change(1, true, 1), change(1, false, 0)});
-    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                            std::chrono::system_clock::now().time_since_epoch())
-                            .count();
-    watch.heard(writer(1), now_ns + 1'000'000);
+    watch.heard(writer(1), wall_ns() + 1'000'000);
     past_grace();
     watch.follow({});
     EXPECT_FALSE(watch.cut_off());
@@ -88,6 +93,50 @@ TEST(CoordinatorWatch, AStandbyWhoseComingAliveWasMergedIntoTheCoordinatorsRepor
     EXPECT_TRUE(watch.cut_off());
     EXPECT_NE(watch.history().find("writer 2 lapse confirmed"), std::string::npos) << watch.history();
 }
+
+/// A watch that heard the coordinator's writer alone alive (the standby's coming alive lost, as Fast
+/// DDS 2.9's unlocked count can lose it), whose frame named a standby (or none), and whose one writer's lapse
+/// is confirmed.
+CoordinatorWatch lapsed_alone(bool standby_follows) {
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1)});
+    watch.standby_follows(standby_follows);
+    watch.follow({change(1, false, 0)});
+    past_grace();
+    watch.follow({});
+    return watch;
+}
+
+TEST(CoordinatorWatch, WithAStandbyFollowingNoneAliveCutsOffOnlyOnceItsTimeToTakeOverHasPassed) {
+    // The coordinator's writer lapsed: the standby may be taking over.
+    CoordinatorWatch watch = lapsed_alone(true);
+    EXPECT_TRUE(watch.none_alive());
+    EXPECT_FALSE(watch.cut_off()) << "within the standby's time to take over";
+    // A frame start written before the lapse (the dead coordinator's, late) shows no one alive.
+    watch.heard(writer(1), wall_ns() - 5'000'000'000);
+    EXPECT_TRUE(watch.none_alive());
+    std::this_thread::sleep_for(CoordinatorWatch::kTakeover);
+    watch.follow({});
+    EXPECT_TRUE(watch.cut_off()) << "no standby took over within its time";
+}
+
+TEST(CoordinatorWatch, AStandbyTakingOverUnreportedIsHeardByItsFrameStartsAndItsLapseCutsOff) {
+    CoordinatorWatch watch = lapsed_alone(true);
+    ASSERT_TRUE(watch.none_alive());
+    // The standby takes over: its first frame start comes, its liveliness says nothing (alive all along).
+    watch.heard(writer(2), wall_ns());
+    EXPECT_FALSE(watch.none_alive());
+    EXPECT_NE(watch.history().find("writer 2 heard writing"), std::string::npos) << watch.history();
+    // Its frames name no standby; when it lapses in turn, the reader's count (one short) goes below zero.
+    watch.standby_follows(false);
+    watch.follow({change(2, false, -1)});
+    EXPECT_FALSE(watch.cut_off()) << "within the lapse's grace";
+    past_grace();
+    watch.follow({});
+    EXPECT_TRUE(watch.cut_off());
+}
+
+TEST(CoordinatorWatch, WithoutAStandbyNoneAliveCutsOffAtOnce) { EXPECT_TRUE(lapsed_alone(false).cut_off()); }
 
 }  // namespace
 }  // namespace lpss::worker
