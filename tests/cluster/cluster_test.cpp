@@ -50,6 +50,7 @@ using testing::SimRow;
 using testing::start_cluster;
 using testing::worker_process;
 using testing::write_scene;
+using Clock = std::chrono::steady_clock;
 
 constexpr double kL = 128.0;
 const Eigen::IOFormat kFull(17);
@@ -79,12 +80,58 @@ std::string against_sim(const std::map<std::uint64_t, WorldFrame>& frames, const
     return testing::against_sim(frames, sim, worst, kL);
 }
 
+/// A scene in a file of the test's own and lpss-sim's run of it: what the cluster's frames are compared with.
+struct SimulatedScene {
+    std::string path;
+    SimFrames sim;
+};
+
+/// Writes `scene` under `name` and runs lpss-sim on it for `frames` frames (every `every`-th kept, as
+/// run_sim keeps them): the two go together in every test that compares the cluster with lpss-sim.
+SimulatedScene simulate_scene(const Scene& scene, const std::string& name, std::uint64_t frames,
+                              int every = 1) {
+    SimulatedScene out;
+    out.path = write_scene(scene, name);
+    out.sim = run_sim(out.path, static_cast<int>(frames), every);
+    return out;
+}
+
+/// Sends `signal` (KILL, STOP, CONT) to the processes that a pkill -f `pattern` matches, as a crash or a
+/// stalled machine would; returns pkill's status (0: it matched one at least).
+int pkill(const std::string& signal, const std::string& pattern) {
+    return std::system(("pkill -" + signal + " -f " + pattern).c_str());
+}
+
+/// Stops lpss-cluster and expects it to stop cleanly, naming its logs if not: the end of most tests.
+void expect_stopped_cleanly(testing::ClusterRun& cluster) {
+    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+}
+
+/// Waits for lpss-cluster to end on its own (its frames run out) and expects it to have ended cleanly: the
+/// faults a test makes must not end the world.
+void expect_ended_cleanly(testing::ClusterRun& cluster) {
+    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+}
+
+/// Expects `words` in the cluster's log `log` (a file of its log folder), showing the whole log if not.
+void expect_logged(const testing::ClusterRun& cluster, const std::string& log, const std::string& words) {
+    const std::string text = read_file(cluster.log_dir + "/" + log);
+    EXPECT_NE(text.find(words), std::string::npos) << text;
+}
+
+/// Starts lpss-worker `id` on `domain` outside lpss-cluster, as an operator restarts a worker or adds one;
+/// its output in `log`.
+std::optional<runtime::ChildProcess> start_worker(int domain, int id, const std::string& log) {
+    return runtime::ChildProcess::start(
+        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", std::to_string(id)}, log);
+}
+
 void compare_with_sim(int workers, int domain) {
     const testing::DomainCleanup cleanup(domain);
     const Scene scene = crossing_scene();
-    const std::string path = write_scene(scene, "crossing" + std::to_string(workers));
     constexpr int kFrames = 240;
-    auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "crossing" + std::to_string(workers), kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1u);
     auto client = connect(domain, "compare");
     // Frame 1 waits for this client: it compares every frame, the border collision and the handoffs the
@@ -93,7 +140,7 @@ void compare_with_sim(int workers, int domain) {
         start_cluster(path, domain, workers, kFrames, {"--block-size", "1", "--await-clients", "1"});
     ASSERT_TRUE(cluster.process);
     auto frames = collect(*client, kFrames);
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     ASSERT_FALSE(frames.empty());
     EXPECT_EQ(frames.begin()->first, 1u) << "the first frame the client saw";
     EXPECT_EQ(frames.size(), static_cast<std::size_t>(kFrames)) << "every frame, none missing";
@@ -192,7 +239,6 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
     ASSERT_TRUE(cluster.process);
     auto frames = collect(*other, 30, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    using Clock = std::chrono::steady_clock;
     std::uint64_t first = 0, last = 0;
     const auto flood_start = Clock::now();  // the bucket refills from the first command on
     for (int n = 0; n < 3000; ++n) {
@@ -238,7 +284,7 @@ TEST(Cluster, AClientFloodingCommandsIsRateLimitedAndTheOthersGoOn) {
         "longest wait for a frame after %.3f s\n",
         answered, static_cast<unsigned long long>(mine->frame), longest);
     EXPECT_LT(longest, 0.25);
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
 }
 
 TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemory) {
@@ -298,7 +344,6 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
                                  {"--await-clients", "1", "--command-rate", std::to_string(rate)});
     ASSERT_TRUE(cluster.process);
     ASSERT_FALSE(collect(*other, 30, std::chrono::seconds(60)).empty());
-    using Clock = std::chrono::steady_clock;
     auto coordinators_mib = [&] {
         std::map<std::string, double> mib;
         for (const auto& [pid, name] : testing::processes_of(domain)) {
@@ -440,7 +485,7 @@ TEST(Cluster, AFloodOfCommandsAtAHundredThousandASecondIsAnsweredAndHoldsNoMemor
     EXPECT_LT(mib_after.at("standby") - mib_before.at("standby"), 32.0)
         << "a command must not be kept once it is answered";
 #endif
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
 }
 
 TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
@@ -454,9 +499,8 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
     const int domain = 143;
     const testing::DomainCleanup cleanup(domain);
     const Scene scene = crossing_scene();
-    const std::string path = write_scene(scene, "garbage");
     constexpr int kFrames = 240;
-    auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "garbage", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1u);
     auto client = connect(domain, "garbage");
     auto peer = dds::Participant::create(domain, "", "a-peer-writing-garbage");
@@ -516,7 +560,7 @@ TEST(Cluster, GarbageSectorSamplesFromAPeerAreRefusedAndChangeNothing) {
             ++written;
         }
     }
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     ASSERT_FALSE(frames.empty());
     EXPECT_EQ(frames.rbegin()->first, static_cast<std::uint64_t>(kFrames));
     EXPECT_GE(frames.size(), kFrames * 9u / 10u);
@@ -546,9 +590,8 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
     // a refused sample changes nothing.
     const int domain = 193;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(crossing_scene(), "without_base");
     constexpr int kFrames = 150;
-    auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(crossing_scene(), "without_base", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1u);
     auto client = connect(domain, "without-base");
     auto peer = dds::Participant::create(domain, "", "a-peer-losing-a-base");
@@ -611,13 +654,12 @@ TEST(Cluster, ASectorSampleWithoutItsBaseIsAskedForWholeByTheCoordinators) {
         forged_out.write(f);
         ++forged;
     }
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     ASSERT_GE(forged, 1);
     std::printf("%d sample(s) forged before both coordinators asked\n", forged);
     EXPECT_EQ(askers.count("lpss-coordinator-1"), 1u) << "the coordinator asked for the sector whole";
     EXPECT_EQ(askers.count("lpss-coordinator-2"), 1u) << "so did the standby";
-    const std::string log = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(log.find("sector(s) whole: their samples came without their base"), std::string::npos) << log;
+    expect_logged(cluster, "coordinator.log", "sector(s) whole: their samples came without their base");
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "");
     EXPECT_LE(worst, 1e-3);
@@ -872,6 +914,16 @@ private:
     std::multimap<SectorKey, Broken> broken_;
 };
 
+/// Checks every frame until lpss-cluster ends, and then those still on their way, and expects it to have
+/// ended cleanly: a check that stopped with the cluster would miss its last frames.
+void check_to_the_end(MembershipCheck& check, testing::ClusterRun& cluster) {
+    while (cluster.process->running())
+        check.poll();
+    for (int n = 0; n < 20; ++n)
+        check.poll();
+    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+}
+
 TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
     // Balls bouncing between walls 2.5 sectors apart, through the borders of three sectors owned by two
     // workers, in both directions, for 2,000 frames.
@@ -898,11 +950,7 @@ TEST(Cluster, BodiesCrossingWorkerBordersAreSeenExactlyOnceInEveryFrame) {
     check.expected_bodies = scene.bodies.size();
     auto cluster = start_cluster(path, domain, 2, 2000, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
-    while (cluster.process->running())
-        check.poll();
-    for (int n = 0; n < 20; ++n)
-        check.poll();
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    check_to_the_end(check, cluster);
     EXPECT_GE(check.checked, 1900u) << "frames checked";
     EXPECT_EQ(check.doubled, 0u);
     EXPECT_EQ(check.incomplete, 0u) << check.first_incomplete << "\nrefused:" << check.refusals;
@@ -935,11 +983,7 @@ TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
     check.expected_bodies = scene.bodies.size() - 1;  // the ground plane is in no sector
     auto cluster = start_cluster(path, domain, 3, 150);
     ASSERT_TRUE(cluster.process);
-    while (cluster.process->running())
-        check.poll();
-    for (int n = 0; n < 20; ++n)
-        check.poll();
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    check_to_the_end(check, cluster);
     EXPECT_GE(check.checked, 140u);
     EXPECT_EQ(check.doubled, 0u);
     EXPECT_EQ(check.incomplete, 0u);
@@ -1027,11 +1071,7 @@ TEST(Cluster, SectorsMoveBetweenWorkersWhenTheLoadShifts) {
         // load had replaced (eight frames deep) before the check's reader matched.
         start_cluster(path, domain, 2, 600, {"--block-size", "1", "--rebalance-every", "60"});
     ASSERT_TRUE(cluster.process);
-    while (cluster.process->running())
-        check.poll();
-    for (int n = 0; n < 20; ++n)
-        check.poll();
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    check_to_the_end(check, cluster);
     const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     // Rebalances follow the balls while they fly; once they rest against the wall (by frame 210) the
     // load stands still, and one more rebalance may catch up with it, but no more: a later one would move
@@ -1104,22 +1144,20 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 128;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "dies");
     constexpr std::uint64_t kFrames = 600;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "dies", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "survivor");
     ASSERT_TRUE(client);
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
-    using Clock = std::chrono::steady_clock;
     FrameRecorder seen(*client);
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     // Kill worker 2 outright, as a crash would.
     const auto killed = Clock::now();
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     seen.gather(kFrames, std::chrono::seconds(60));
     ASSERT_GT(frames.rbegin()->first, killed_at + 120) << "frames go on after the death";
@@ -1173,7 +1211,7 @@ TEST(Cluster, AKilledWorkerIsFoundWithinItsLeaseAndItsLostFrameIsSteppedAgain) {
     EXPECT_LE(worst, 1e-3);
     EXPECT_LT(pause, 1.0) << "the world goes on within a second of the kill";
     EXPECT_GE(checked_after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     const std::string text = read_file(cluster.log_dir + "/coordinator.log");
     // Found by its liveliness lease (0.4 s), not by a silence of seconds; the frame it did not finish
     // stepped again by the coordinator.
@@ -1217,17 +1255,18 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     const Scene scene = scenes::resting_world(20000, 100);
     const int domain = 181;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "killed_at_rest");
     // Frames enough after the kill for a client that fell behind: the kill follows the client's frame 100,
     // and a client building its first frame of 20,000 bodies under a sanitizer beside other tests was seen
     // to sync again at frame 198 with the cluster at 327 (of 360 then: 2 frames left to compare).
     constexpr std::uint64_t kFrames = 480;
     constexpr int kEvery = 20;
-    const auto sim = run_sim(path, kFrames, kEvery);
+    // Not bound as [path, sim]: gather, below, reads sim, and a C++17 lambda cannot capture a binding.
+    const SimulatedScene simulated = simulate_scene(scene, "killed_at_rest", kFrames, kEvery);
+    const SimFrames& sim = simulated.sim;
     ASSERT_EQ(sim.size(), kFrames / kEvery + 1);
     auto client = connect(domain, "rebuilds", std::nullopt, FrameContent::changes);
     ASSERT_TRUE(client);
-    auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
+    auto cluster = start_cluster(simulated.path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
     std::map<BodyId, BodyView> bodies;
     std::map<std::uint64_t, WorldFrame> compared;  // the rebuilt world at the frames lpss-sim wrote
@@ -1253,7 +1292,7 @@ TEST(Cluster, AWorkerKilledInAWorldMostlyAtRestHasOnlyWhatMayChangeSteppedAgain)
     gather(100, std::chrono::seconds(90));
     ASSERT_GE(last, 100u) << testing::log_tails(cluster.log_dir);
     const std::uint64_t killed_at = last;
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     gather(kFrames, std::chrono::seconds(90));
     EXPECT_EQ(last, kFrames) << testing::log_tails(cluster.log_dir);
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
@@ -1411,7 +1450,7 @@ TEST(Cluster, AWorkerKilledWhileCommandsComeHasAllItsSectorsSteppedAgainAndEachC
            std::chrono::steady_clock::now() < lifts_end)
         watch(std::chrono::milliseconds(2));
     const std::uint64_t killed_at = last;
-    const int killed = std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str());
+    const int killed = pkill("KILL", worker_process(domain, 2));
     worker_killed = true;
     lifting.join();
     ASSERT_EQ(killed, 0);
@@ -1479,9 +1518,8 @@ TEST(Cluster, AWorkerKilledWhileCommandsComeHasAllItsSectorsSteppedAgainAndEachC
 double fault_every_worker(int workers, int domain, int stop_s = 0) {
     const Scene scene = crossing_scene_with_far_balls();
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "every" + std::to_string(workers));
     constexpr std::uint64_t kFrames = 600;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "every" + std::to_string(workers), kFrames);
     EXPECT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "every");
     EXPECT_TRUE(client);
@@ -1489,7 +1527,6 @@ double fault_every_worker(int workers, int domain, int stop_s = 0) {
     auto cluster = start_cluster(path, domain, workers, kFrames, {"--block-size", "1", "--restart-workers"});
     EXPECT_TRUE(cluster.process);
     if (!cluster.process) return -1.0;
-    using Clock = std::chrono::steady_clock;
     FrameRecorder seen(*client);
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
@@ -1518,10 +1555,9 @@ double fault_every_worker(int workers, int domain, int stop_s = 0) {
         static_cast<unsigned long long>(after), worst);
     EXPECT_LE(worst, 1e-3);
     EXPECT_GE(after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
-    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(text.find("every worker is gone during frame"), std::string::npos) << text;
-    EXPECT_NE(text.find("joined the world waiting at frame"), std::string::npos) << text;
+    expect_stopped_cleanly(cluster);
+    expect_logged(cluster, "coordinator.log", "every worker is gone during frame");
+    expect_logged(cluster, "coordinator.log", "joined the world waiting at frame");
     return pause;
 }
 
@@ -1564,9 +1600,8 @@ TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
     // bound of lpss-sim.
     const int domain = 144;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(crossing_scene(), "frozen");
     constexpr std::uint64_t kFrames = 480;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(crossing_scene(), "frozen", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "frozen");
     ASSERT_TRUE(client);
@@ -1577,11 +1612,11 @@ TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
     collect_into(*client, frames, 150, std::chrono::seconds(60), {}, poll);
     ASSERT_FALSE(frames.empty());
     const std::string worker = worker_process(domain, 2);
-    ASSERT_EQ(std::system(("pkill -STOP -f " + worker).c_str()), 0);
+    ASSERT_EQ(pkill("STOP", worker), 0);
     const std::uint64_t frozen_at = frames.rbegin()->first;
     // 1.5 s: the world went on without it.
     collect_into(*client, frames, frozen_at + 90, std::chrono::seconds(60), {}, poll);
-    ASSERT_EQ(std::system(("pkill -CONT -f " + worker).c_str()), 0);
+    ASSERT_EQ(pkill("CONT", worker), 0);
     collect_into(*client, frames, kFrames, std::chrono::seconds(60), {}, poll);
     EXPECT_EQ(frames.rbegin()->first, kFrames);
     cluster.process->stop(std::chrono::seconds(20));
@@ -1601,8 +1636,7 @@ TEST(Cluster, AWorkerTakenAsGoneStopsAndRejoinsWhenItComesBack) {
     const std::size_t again = text.find("joins again as a fresh worker", out);
     ASSERT_NE(again, std::string::npos) << text;
     EXPECT_NE(text.find("joins the cluster with sectors", again), std::string::npos) << text;
-    EXPECT_NE(read_file(cluster.log_dir + "/coordinator.log").find("worker 2 asks to join"),
-              std::string::npos);
+    expect_logged(cluster, "coordinator.log", "worker 2 asks to join");
 }
 
 /// The largest body count each worker reported in a mark of a frame after `after`: which workers
@@ -1663,9 +1697,8 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 142;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "joins");
     constexpr std::uint64_t kFrames = 900;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "joins", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "joins");
     ASSERT_TRUE(client);
@@ -1678,19 +1711,14 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     killed_at = frames.rbegin()->first;
     owners.forget(2);
     seen.gather(killed_at + 60, std::chrono::seconds(60));
-    auto start_worker = [&](int id) {
-        return runtime::ChildProcess::start(LPSS_WORKER,
-                                            {"--domain", std::to_string(domain), "--id", std::to_string(id)},
-                                            cluster.log_dir + ".joined" + std::to_string(id));
-    };
-    auto restarted = start_worker(2);
+    auto restarted = start_worker(domain, 2, cluster.log_dir + ".joined2");
     ASSERT_TRUE(restarted);
     seen.gather(killed_at + 250, std::chrono::seconds(60));
-    auto newcomer = start_worker(4);
+    auto newcomer = start_worker(domain, 4, cluster.log_dir + ".joined4");
     ASSERT_TRUE(newcomer);
     seen.gather(kFrames, std::chrono::seconds(90));
     ASSERT_EQ(frames.rbegin()->first, kFrames);
@@ -1715,14 +1743,13 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
     EXPECT_GE(frames.size(), kFrames * 9 / 10) << "the client saw most frames";
     EXPECT_GT(owners.most(2), 0u) << "the restarted worker simulates bodies";
     EXPECT_GT(owners.most(4), 0u) << "the new worker simulates bodies";
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
     EXPECT_TRUE(newcomer->wait(std::chrono::seconds(20)));
     EXPECT_EQ(restarted->exit_code().value_or(-1), 0);
     EXPECT_EQ(newcomer->exit_code().value_or(-1), 0);
-    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(text.find("worker 2 asks to join"), std::string::npos) << text;
-    EXPECT_NE(text.find("worker 4 asks to join"), std::string::npos) << text;
+    expect_logged(cluster, "coordinator.log", "worker 2 asks to join");
+    expect_logged(cluster, "coordinator.log", "worker 4 asks to join");
     for (int id : {2, 4}) {
         const std::string log = read_file(cluster.log_dir + ".joined" + std::to_string(id));
         EXPECT_NE(log.find("joins the cluster with sectors"), std::string::npos) << log;
@@ -1744,9 +1771,8 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 153;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "cut");
     constexpr std::uint64_t kFrames = 900;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "cut", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     const std::string profile = LPSS_SOURCE_DIR "/deploy/profiles/lpss-lan.xml";
     const std::string logs = path + ".cut";
@@ -1789,7 +1815,6 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     }
     ASSERT_TRUE(standby && coordinator);
     const testing::LogsOnFailure printed(logs);  // (the logs are beside the scene: "<scene>.cut.*")
-    using Clock = std::chrono::steady_clock;
     FrameRecorder seen(*client);
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
@@ -1846,16 +1871,14 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 146;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "coordinator_dies");
     constexpr std::uint64_t kFrames = 600;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "coordinator_dies", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     auto spawner = connect(domain, "spawner");
     ASSERT_TRUE(client && spawner);
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1"});
     ASSERT_TRUE(cluster.process);
-    using Clock = std::chrono::steady_clock;
     FrameRecorder seen(*client);
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
@@ -1873,14 +1896,13 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
         if (n == 10) {
             killed = Clock::now();
             killed_at = frames.rbegin()->first;
-            ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+            ASSERT_EQ(pkill("KILL", coordinator), 0);
         }
         seen.poll(std::chrono::milliseconds(0));
     }
     seen.gather(kFrames, std::chrono::seconds(60));
     ASSERT_GT(frames.rbegin()->first, killed_at + 200) << "frames go on after the coordinator's death";
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
 
     const double pause = seen.longest_wait(killed_at, killed);
     // Each spawn answered once: applied at a frame, or refused with a reason.
@@ -1929,8 +1951,7 @@ TEST(Cluster, AKilledCoordinatorIsReplacedByItsStandbyAndNoFrameOrCommandIsLostO
     EXPECT_LE(worst, 1e-3);
     EXPECT_LT(pause, 1.0) << "the world goes on within a second of the kill";
     EXPECT_GE(checked_after, (kFrames - killed_at) * 9 / 10) << "the client saw most frames after the kill";
-    const std::string text = read_file(cluster.log_dir + "/standby.log");
-    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+    expect_logged(cluster, "standby.log", "taking over under term 2");
 }
 
 TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
@@ -1941,9 +1962,8 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 149;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "standby_paused");
     constexpr std::uint64_t kFrames = 900;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "standby_paused", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
@@ -1958,13 +1978,13 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
     // coordinator writes a frame start or two without it, fewer than its writer keeps (8), so the standby
     // can still read them all. (A fixed pause is either short of the lease on a slow machine or lets more
     // than 8 starts go by.)
-    ASSERT_EQ(std::system(("pkill -STOP -f " + standby).c_str()), 0);
+    ASSERT_EQ(pkill("STOP", standby), 0);
     const std::string dropped = "standby coordinator 2 missed its liveliness lease";
     for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
          read_file(cluster.log_dir + "/coordinator.log").find(dropped) == std::string::npos &&
          std::chrono::steady_clock::now() < until;)
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    ASSERT_EQ(std::system(("pkill -CONT -f " + standby).c_str()), 0);
+    ASSERT_EQ(pkill("CONT", standby), 0);
     const std::uint64_t resumed_at = frames.rbegin()->first;
     collect_into(*client, frames, resumed_at + 120, std::chrono::seconds(20));
     const std::string primary_log = read_file(cluster.log_dir + "/coordinator.log");
@@ -1972,10 +1992,9 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
         << "the pause went past the standby's lease";
     EXPECT_NE(primary_log.find("standby coordinator 2 is back"), std::string::npos) << primary_log;
     const std::uint64_t killed_at = frames.rbegin()->first;
-    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", coordinator), 0);
     collect_into(*client, frames, kFrames, std::chrono::seconds(60));
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
     ASSERT_GT(frames.rbegin()->first, killed_at + 100) << "frames go on after the coordinator's death";
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
@@ -1986,8 +2005,7 @@ TEST(Cluster, AStandbyPausedPastItsLeaseIsNamedAgainAndStillTakesOver) {
         static_cast<unsigned long long>(resumed_at), static_cast<unsigned long long>(killed_at), after,
         worst);
     EXPECT_LE(worst, 1e-3);
-    const std::string text = read_file(cluster.log_dir + "/standby.log");
-    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+    expect_logged(cluster, "standby.log", "taking over under term 2");
 }
 
 TEST(Cluster, AKilledStandbyCostsAPauseAndNoBody) {
@@ -1997,25 +2015,22 @@ TEST(Cluster, AKilledStandbyCostsAPauseAndNoBody) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 190;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "standby_killed");
     constexpr std::uint64_t kFrames = 480;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "standby_killed", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
     auto cluster = start_cluster(path, domain, 2, kFrames);
     ASSERT_TRUE(cluster.process);
-    using Clock = std::chrono::steady_clock;
     FrameRecorder seen(*client);
     auto& frames = seen.frames;
     seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     const auto killed = Clock::now();
-    ASSERT_EQ(std::system(("pkill -KILL -f " + testing::standby_process(domain)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", testing::standby_process(domain)), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     seen.gather(kFrames, std::chrono::seconds(60));
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "the world ran to its end";
     const double pause = seen.longest_wait(killed_at, killed);
     double worst = 0.0;
@@ -2030,9 +2045,7 @@ TEST(Cluster, AKilledStandbyCostsAPauseAndNoBody) {
     // The lease (0.3 s) confirmed (0.15 s more) and the start written again; 1.5 s leaves room for a
     // loaded machine, and is far from the 5 s a worker waits before it takes the coordinator as gone.
     EXPECT_LT(pause, 1.5);
-    const std::string primary_log = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(primary_log.find("standby coordinator 2 missed its liveliness lease"), std::string::npos)
-        << primary_log;
+    expect_logged(cluster, "coordinator.log", "standby coordinator 2 missed its liveliness lease");
     EXPECT_NE(read_file(cluster.log_dir + ".out").find("the standby coordinator ended"), std::string::npos);
 }
 
@@ -2044,13 +2057,11 @@ TEST(Cluster, AStandbyKilledBeforeFrameOneIsStartedAgainAndCanTakeOver) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 191;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "standby_restarted");
     constexpr std::uint64_t kFrames = 480;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "standby_restarted", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
-    using Clock = std::chrono::steady_clock;
     const auto started = Clock::now();
     auto cluster = start_cluster(path, domain, 2, kFrames, {"--standby-wait-s", "60"});
     ASSERT_TRUE(cluster.process);
@@ -2058,8 +2069,7 @@ TEST(Cluster, AStandbyKilledBeforeFrameOneIsStartedAgainAndCanTakeOver) {
     // holds the world's first state, which the coordinator sends after reading the scene).
     bool killed = false;
     for (auto until = Clock::now() + std::chrono::seconds(10); !killed && Clock::now() < until;) {
-        killed =
-            std::system(("pkill -KILL -f " + testing::standby_process(domain) + " 2>/dev/null").c_str()) == 0;
+        killed = pkill("KILL", testing::standby_process(domain) + " 2>/dev/null") == 0;
         if (!killed) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     ASSERT_TRUE(killed) << "the standby was seen";
@@ -2073,10 +2083,9 @@ TEST(Cluster, AStandbyKilledBeforeFrameOneIsStartedAgainAndCanTakeOver) {
               std::string::npos)
         << out;
     const std::uint64_t killed_at = frames.rbegin()->first;
-    ASSERT_EQ(std::system(("pkill -KILL -f " + testing::primary_coordinator_process(domain)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", testing::primary_coordinator_process(domain)), 0);
     collect_into(*client, frames, kFrames, std::chrono::seconds(60));
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "the world ran to its end after the coordinator's death";
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
@@ -2086,8 +2095,7 @@ TEST(Cluster, AStandbyKilledBeforeFrameOneIsStartedAgainAndCanTakeOver) {
         "killed after frame %llu; largest difference from lpss-sim %.3g\n",
         first_frames, static_cast<unsigned long long>(killed_at), worst);
     EXPECT_LE(worst, 1e-3);
-    const std::string text = read_file(cluster.log_dir + "/standby.1.log");
-    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+    expect_logged(cluster, "standby.1.log", "taking over under term 2");
 }
 
 TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
@@ -2097,9 +2105,8 @@ TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 151;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "double_fault");
     constexpr std::uint64_t kFrames = 600;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "double_fault", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
@@ -2112,8 +2119,8 @@ TEST(Cluster, ACoordinatorAndAWorkerKilledTogetherLoseNoBody) {
     const std::uint64_t killed_at = frames.rbegin()->first;
     // The coordinator first: no frame starts after it, so the worker, killed a moment later, has ended the
     // frame the standby takes over from (the path where its sectors are restored as it left them).
-    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", coordinator), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     collect_into(*client, frames, kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     ASSERT_GT(frames.rbegin()->first, killed_at + 100)
@@ -2149,9 +2156,8 @@ void coordinator_gone_while_it_reads_the_scene(bool killed, int domain) {
         scene.bodies.push_back(box);
     }
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "coordinator_gone_reading");
     constexpr std::uint64_t kFrames = 150;
-    SimFrames sim = run_sim(path, kFrames);
+    auto [path, sim] = simulate_scene(scene, "coordinator_gone_reading", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     // The client follows the region of the moving bodies, not the boxes (20,000 bodies a frame kept a client
     // under AddressSanitizer 28 frames behind for two minutes): lpss-sim's frames without them.
@@ -2173,29 +2179,27 @@ void coordinator_gone_while_it_reads_the_scene(bool killed, int domain) {
          read_file(cluster.log_dir + "/standby.log").find("follows the coordinator") == std::string::npos) &&
         std::chrono::steady_clock::now() < until)
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    ASSERT_EQ(std::system(("pkill -STOP -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("STOP", coordinator), 0);
     const std::string before = read_file(log);
     ASSERT_NE(before.find("coordinator: loading"), std::string::npos) << before;
     ASSERT_EQ(before.find("read and checked"), std::string::npos) << "stopped too late: " << before;
     if (killed) {
-        ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+        ASSERT_EQ(pkill("KILL", coordinator), 0);
     } else {
         // Past its lease (0.3 s, confirmed 0.15 s later), then on again.
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-        ASSERT_EQ(std::system(("pkill -CONT -f " + coordinator).c_str()), 0);
+        ASSERT_EQ(pkill("CONT", coordinator), 0);
     }
     std::map<std::uint64_t, WorldFrame> frames;
     collect_into(*client, frames, kFrames, std::chrono::seconds(120));
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
     ASSERT_FALSE(frames.empty()) << "logs: " << cluster.log_dir;
     EXPECT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
     EXPECT_GE(frames.size(), kFrames * 9 / 10) << "the client saw most frames";
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
     EXPECT_LE(worst, 1e-3);
-    const std::string text = read_file(cluster.log_dir + "/standby.log");
-    EXPECT_NE(text.find("starts the world under term 2"), std::string::npos) << text;
+    expect_logged(cluster, "standby.log", "starts the world under term 2");
     if (!killed) {
         const std::string after = read_file(log);
         EXPECT_NE(after.find("started the world while this one read the scene"), std::string::npos) << after;
@@ -2224,9 +2228,8 @@ TEST(Cluster, ACoordinatorPausedPastItsLeaseAfterItSentTheFirstStateKeepsItsStan
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 184;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "coordinator_paused_after_first_state");
     constexpr std::uint64_t kFrames = 300;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "coordinator_paused_after_first_state", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto cluster = start_cluster(path, domain, 2, kFrames, {"--block-size", "1", "--await-clients", "1"});
     ASSERT_TRUE(cluster.process);
@@ -2241,9 +2244,9 @@ TEST(Cluster, ACoordinatorPausedPastItsLeaseAfterItSentTheFirstStateKeepsItsStan
     ASSERT_NE(read_file(coordinator_log).find("frame 1 waits for 1 client"), std::string::npos)
         << "logs: " << cluster.log_dir;
     // Past its lease (0.3 s, confirmed 0.15 s later), then on again.
-    ASSERT_EQ(std::system(("pkill -STOP -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("STOP", coordinator), 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-    ASSERT_EQ(std::system(("pkill -CONT -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("CONT", coordinator), 0);
     const auto back_by = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (read_file(standby_log).find("follows it again") == std::string::npos &&
            std::chrono::steady_clock::now() < back_by)
@@ -2260,16 +2263,14 @@ TEST(Cluster, ACoordinatorPausedPastItsLeaseAfterItSentTheFirstStateKeepsItsStan
     ASSERT_FALSE(frames.empty()) << "logs: " << cluster.log_dir;
     const std::uint64_t killed_at = frames.rbegin()->first;
     ASSERT_LT(killed_at + 100, kFrames) << "time left to run after the takeover";
-    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", coordinator), 0);
     collect_into(*client, frames, kFrames, std::chrono::seconds(60));
-    EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
-    EXPECT_EQ(cluster.process->exit_code().value_or(-1), 0) << "logs: " << cluster.log_dir;
+    expect_ended_cleanly(cluster);
     ASSERT_EQ(frames.rbegin()->first, kFrames) << "logs: " << cluster.log_dir;
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "") << "logs: " << cluster.log_dir;
     EXPECT_LE(worst, 1e-3);
-    const std::string text = read_file(standby_log);
-    EXPECT_NE(text.find("taking over under term 2"), std::string::npos) << text;
+    expect_logged(cluster, "standby.log", "taking over under term 2");
     std::printf(
         "the coordinator paused 1.5 s after its first state, killed after frame %llu: %zu frames seen, "
         "largest difference from lpss-sim %.3g\n",
@@ -2285,9 +2286,8 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 163;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "restart_then_takeover");
     constexpr std::uint64_t kFrames = 900;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "restart_then_takeover", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
@@ -2299,12 +2299,11 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     auto& frames = seen.frames;
     seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     killed_at = frames.rbegin()->first;
     owners.forget(2);
     seen.gather(killed_at + 60, std::chrono::seconds(60));
-    auto restarted = runtime::ChildProcess::start(
-        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "2"}, cluster.log_dir + ".restarted2");
+    auto restarted = start_worker(domain, 2, cluster.log_dir + ".restarted2");
     ASSERT_TRUE(restarted);
     // Until the restarted worker has simulated bodies (the standby has read its marks of frames too).
     const auto joined_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
@@ -2315,7 +2314,7 @@ TEST(Cluster, AStandbyTakingOverAfterAWorkerRestartedTakesNoLiveWorkerAsGone) {
     const std::uint64_t coordinator_killed_at = frames.rbegin()->first;
     ASSERT_LT(coordinator_killed_at + 100, kFrames) << "time left to run after the takeover";
     const std::string coordinator = testing::primary_coordinator_process(domain);
-    ASSERT_EQ(std::system(("pkill -KILL -f " + coordinator).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", coordinator), 0);
     seen.gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
@@ -2345,9 +2344,8 @@ TEST(Cluster, AWorkerRestartedJustBeforeTheCoordinatorDiesIsLetInByTheStandbyAnd
     const Scene scene = crossing_scene_with_far_balls();
     const int domain = 177;
     const testing::DomainCleanup cleanup(domain);
-    const std::string path = write_scene(scene, "restart_at_takeover");
     constexpr std::uint64_t kFrames = 900;
-    const auto sim = run_sim(path, kFrames);
+    const auto [path, sim] = simulate_scene(scene, "restart_at_takeover", kFrames);
     ASSERT_EQ(sim.size(), kFrames + 1);
     auto client = connect(domain, "watcher");
     ASSERT_TRUE(client);
@@ -2358,14 +2356,13 @@ TEST(Cluster, AWorkerRestartedJustBeforeTheCoordinatorDiesIsLetInByTheStandbyAnd
     auto& frames = seen.frames;
     seen.gather(120, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
-    ASSERT_EQ(std::system(("pkill -KILL -f " + worker_process(domain, 2)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", worker_process(domain, 2)), 0);
     owners.forget(2);
     // A second at 60 frames a second: the lease (0.4 s) has lapsed for both coordinators by then.
     seen.gather(frames.rbegin()->first + 60, std::chrono::seconds(60));
-    auto restarted = runtime::ChildProcess::start(
-        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "2"}, cluster.log_dir + ".restarted2");
+    auto restarted = start_worker(domain, 2, cluster.log_dir + ".restarted2");
     ASSERT_TRUE(restarted);
-    ASSERT_EQ(std::system(("pkill -KILL -f " + testing::primary_coordinator_process(domain)).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", testing::primary_coordinator_process(domain)), 0);
     seen.gather(kFrames, std::chrono::seconds(60));
     EXPECT_TRUE(cluster.process->wait(std::chrono::seconds(30)));
     EXPECT_TRUE(restarted->wait(std::chrono::seconds(20)));
@@ -2412,23 +2409,21 @@ TEST(Cluster, AWorkerJoiningAfterAStandbyTookOverGetsThePlanesAndRuns) {
     collect_into(*client, frames, 100, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty());
     const std::string primary = testing::primary_coordinator_process(domain);
-    ASSERT_EQ(std::system(("pkill -KILL -f " + primary).c_str()), 0);
+    ASSERT_EQ(pkill("KILL", primary), 0);
     const std::uint64_t killed_at = frames.rbegin()->first;
     collect_into(*client, frames, killed_at + 60, std::chrono::seconds(60));
-    auto newcomer = runtime::ChildProcess::start(
-        LPSS_WORKER, {"--domain", std::to_string(domain), "--id", "3"}, cluster.log_dir + ".joined3");
+    auto newcomer = start_worker(domain, 3, cluster.log_dir + ".joined3");
     ASSERT_TRUE(newcomer);
     collect_into(*client, frames, kFrames, std::chrono::seconds(90));
     EXPECT_EQ(frames.rbegin()->first, kFrames) << "the world goes on to its last frame";
     const std::size_t bodies = frames.begin()->second.bodies.size();
     for (const auto& [f, frame] : frames)
         ASSERT_EQ(frame.bodies.size(), bodies) << "frame " << f;
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     EXPECT_TRUE(newcomer->wait(std::chrono::seconds(20)));
     const std::string log = read_file(cluster.log_dir + ".joined3");
     EXPECT_NE(log.find("joins the cluster with sectors"), std::string::npos) << log;
-    EXPECT_NE(read_file(cluster.log_dir + "/standby.log").find("taking over"), std::string::npos)
-        << read_file(cluster.log_dir + "/standby.log");
+    expect_logged(cluster, "standby.log", "taking over");
 }
 
 TEST(Cluster, WorkersSayTheCoordinatorIsGoneAndStop) {
@@ -2533,7 +2528,7 @@ TEST(Cluster, ARecorderAndAClientStartedBeforeTheClusterSeeFrameOne) {
     auto cluster = start_cluster(path, domain, 3, kFrames, {"--block-size", "1", "--await-clients", "2"});
     ASSERT_TRUE(cluster.process);
     auto frames = collect(*client, kFrames, std::chrono::seconds(60));
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     ASSERT_FALSE(frames.empty());
     EXPECT_EQ(frames.begin()->first, 1u) << "the client's first frame";
     EXPECT_EQ(frames.size(), kFrames) << "every frame, 1 to " << kFrames;
@@ -2570,12 +2565,11 @@ TEST(Cluster, FrameOneWaitsForTheClientsItWasToldToAwait) {
     auto client = connect(domain, "awaited");
     ASSERT_TRUE(client);
     auto frames = collect(*client, kFrames, std::chrono::seconds(60));
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     ASSERT_FALSE(frames.empty());
     EXPECT_EQ(frames.begin()->first, 1u) << "the client's first frame";
     EXPECT_EQ(frames.size(), kFrames) << "every frame, 1 to " << kFrames;
-    const std::string text = read_file(cluster.log_dir + "/coordinator.log");
-    EXPECT_NE(text.find("client awaited is ready"), std::string::npos) << text;
+    expect_logged(cluster, "coordinator.log", "client awaited is ready");
 }
 
 TEST(Cluster, AReaderMissingASectorsBaseGetsItWholeOnRequest) {
@@ -2937,7 +2931,7 @@ TEST(Cluster, AClientOfChangesHoldsWhatAClientOfEveryBodyHolds) {
         for (WorldFrame& f : regional->poll())
             in_region.take(f);
     }
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
     std::size_t compared = 0, compared_region = 0;
     auto same = [](const BodyView& a, const BodyView& b) {
         return a.id == b.id && a.position.sector == b.position.sector &&
@@ -3319,7 +3313,7 @@ TEST(Cluster, ClientsJoiningOneAfterAnotherHearEveryPeerWithoutWaitingForItsNext
     }
     std::printf("clients matched the cluster after (s):%s\n", times.c_str());
     EXPECT_TRUE(cluster.process->running()) << "logs: " << cluster.log_dir;
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
 }
 
 TEST(Cluster, AKilledProcessLeavesNoSharedMemoryBehind) {
@@ -3472,7 +3466,7 @@ TEST(Cluster, TheClusterPassesItsTimeoutsToItsCoordinatorsAndWorkers) {
         EXPECT_EQ(has("--border-wait-ms", "321"), !coordinator) << name;
         EXPECT_EQ(has("--coordinator-wait-s", "7"), !coordinator) << name;
     }
-    EXPECT_EQ(cluster.process->stop(std::chrono::seconds(20)), 0) << "logs: " << cluster.log_dir;
+    expect_stopped_cleanly(cluster);
 }
 
 TEST(Cluster, ProgramsExplainWhyTheyCannotStart) {
