@@ -6,6 +6,12 @@
 
 namespace lpss::worker {
 
+std::int64_t CoordinatorWatch::wall_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
 void CoordinatorWatch::note(const dds::fdds::InstanceHandle_t& writer, const char* what,
                             std::int32_t alive_count) {
     auto known = std::find(writers_.begin(), writers_.end(), writer);
@@ -34,23 +40,20 @@ void CoordinatorWatch::follow(const std::vector<dds::Inbox::Liveliness>& changes
     for (const dds::fdds::InstanceHandle_t& writer : lapses_.confirmed(now)) {
         note(writer, "lapse confirmed", alive_count_);
         alive_.erase(writer);
+        lapsed_at_ns_[writer] = wall_ns();
     }
-    if (!none_before && none_counted()) {
-        none_alive_since_ = now;
-        none_alive_since_ns_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                   std::chrono::system_clock::now().time_since_epoch())
-                                   .count();
-    }
+    if (!none_before && none_counted()) none_alive_since_ = now;
 }
 
 void CoordinatorWatch::heard(const dds::fdds::InstanceHandle_t& writer, std::int64_t written_ns) {
     lapses_.heard(writer, written_ns);
-    // Written since none was alive here: a coordinator speaks (a standby that took over, or one heard again
-    // once a link came back) whatever its DDS liveliness said or did not say.
-    if (none_alive() && written_ns > none_alive_since_ns_) {
-        note(writer, "heard writing", alive_count_);
-        alive_.insert(writer);
-    }
+    // A frame start written since this watch began and since the writer's last confirmed lapse: a
+    // coordinator speaks (a standby that took over, or one heard again once a link came back), whatever
+    // its DDS liveliness said or did not say. Counted as it comes, even before the old coordinator's lapse
+    // is confirmed: a standby's first starts can come first.
+    auto lapsed = lapsed_at_ns_.find(writer);
+    const std::int64_t after = std::max(began_ns_, lapsed == lapsed_at_ns_.end() ? 0 : lapsed->second);
+    if (written_ns > after && alive_.insert(writer).second) note(writer, "heard writing", alive_count_);
 }
 
 bool CoordinatorWatch::cut_off() const {

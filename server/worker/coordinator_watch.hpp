@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -21,11 +22,12 @@ namespace lpss::worker {
 
 class CoordinatorWatch {
 public:
-    explicit CoordinatorWatch(std::uint32_t worker) : worker_(worker) {}
+    explicit CoordinatorWatch(std::uint32_t worker) : worker_(worker), began_ns_(wall_ns()) {}
 
     /// The liveliness changes the frame start reader reported since the last call, in order.
     void follow(const std::vector<dds::Inbox::Liveliness>& changes);
-    /// A frame start a writer wrote (its DDS source timestamp, system clock ns): it shows that writer alive.
+    /// A frame start a writer wrote (its DDS source timestamp, system clock ns): written since the writer's
+    /// last confirmed lapse, it shows that writer alive.
     void heard(const dds::fdds::InstanceHandle_t& writer, std::int64_t written_ns);
     /// Whether the frame this worker runs named a standby that holds its start: one that takes over when the
     /// coordinator goes.
@@ -45,6 +47,8 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     void note(const dds::fdds::InstanceHandle_t& writer, const char* what, std::int32_t alive_count);
+    /// The system clock (ns), as DDS source timestamps.
+    static std::int64_t wall_ns();
     /// Neither the set nor the reader's count has a writer alive (a count the race below left one short
     /// goes below zero when the last writer lapses).
     bool none_counted() const { return alive_.empty() && alive_count_ <= 0; }
@@ -68,8 +72,10 @@ private:
     bool standby_follows_ = false;
     /// Since when none is alive (none_counted), by the last `follow`.
     Clock::time_point none_alive_since_{};
-    /// The same moment on the system clock, as the frame starts' source timestamps (ns).
-    std::int64_t none_alive_since_ns_ = 0;
+    /// When this watch began, and when each writer's last lapse was confirmed (system clock, ns): frame
+    /// starts written before are history, not a coordinator heard.
+    std::int64_t began_ns_;
+    std::map<dds::fdds::InstanceHandle_t, std::int64_t> lapsed_at_ns_;
     /// Under AddressSanitizer a worker took itself as cut off as a standby took over, and its log could not
     /// say why: the last few changes are kept.
     struct News {

@@ -124,13 +124,40 @@ TEST(CoordinatorWatch, AStandbyTakingOverUnreportedIsHeardByItsFrameStartsAndIts
     CoordinatorWatch watch = lapsed_alone(true);
     ASSERT_TRUE(watch.none_alive());
     // The standby takes over: its first frame start comes, its liveliness says nothing (alive all along).
-    watch.heard(writer(2), wall_ns());
+    watch.heard(writer(2), wall_ns() + 1'000'000);
     EXPECT_FALSE(watch.none_alive());
     EXPECT_NE(watch.history().find("writer 2 heard writing"), std::string::npos) << watch.history();
     // Its frames name no standby; when it lapses in turn, the reader's count (one short) goes below zero.
     watch.standby_follows(false);
     watch.follow({change(2, false, -1)});
     EXPECT_FALSE(watch.cut_off()) << "within the lapse's grace";
+    past_grace();
+    watch.follow({});
+    EXPECT_TRUE(watch.cut_off());
+}
+
+TEST(CoordinatorWatch, AStandbysFrameStartThatComesBeforeTheLapseIsConfirmedCounts) {
+    // A worker busy with a long frame confirms the coordinator's lapse late: the standby has taken over and
+    // written its first starts before. They count as they come.
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1)});
+    watch.standby_follows(true);
+    watch.follow({change(1, false, 0)});
+    watch.heard(writer(2), wall_ns() + 1'000'000);
+    watch.standby_follows(false);  // the standby's starts name no standby
+    past_grace();
+    watch.follow({});
+    EXPECT_NE(watch.history().find("writer 1 lapse confirmed"), std::string::npos) << watch.history();
+    EXPECT_FALSE(watch.none_alive());
+    EXPECT_FALSE(watch.cut_off());
+}
+
+TEST(CoordinatorWatch, FrameStartsWrittenBeforeTheWatchBeganAreHistory) {
+    // A worker that joins reads the frame starts a writer keeps: they show no coordinator alive now.
+    CoordinatorWatch watch(1);
+    watch.follow({change(1, true, 1)});
+    watch.heard(writer(2), wall_ns() - 5'000'000'000);
+    watch.follow({change(1, false, 0)});
     past_grace();
     watch.follow({});
     EXPECT_TRUE(watch.cut_off());
