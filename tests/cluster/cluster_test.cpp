@@ -1762,8 +1762,9 @@ TEST(Cluster, AWorkerRestartedUnderItsIdAndANewOneJoinTheRunningWorld) {
 TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkReturns) {
     // Four hosts on a bridge (network namespaces, each with its own /dev/shm) and the opt-in LAN profile: the
     // coordinator and its standby on host 1, a worker on each of hosts 2-4, this test's client on the bridge.
-    // Host 3's link goes down for 3 s, then comes back. Cut off, worker 2 hears no coordinator for the lease
-    // and stops publishing; the coordinator finds it gone by its lease and the others take its sectors; back,
+    // Host 3's link goes down for 4 s, then comes back. Cut off, worker 2 hears no coordinator for the lease
+    // nor, as a standby follows, a frame start of the standby's within its time to take over, and stops
+    // publishing; the coordinator finds it gone by its lease and the others take its sectors; back,
     // it joins again as a fresh worker. Every frame the client sees holds every body once, within the
     // cluster's bound of lpss-sim, and the world goes on during the cut.
     testing::FakeHosts hosts(4);
@@ -1819,11 +1820,14 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     auto& frames = seen.frames;
     seen.gather(150, std::chrono::seconds(60));
     ASSERT_FALSE(frames.empty()) << "no frame across the fake hosts";
+    // About twice what the worker takes to know it is cut off: the lease and its grace (0.45 s) and the
+    // standby's time to take over (CoordinatorWatch::kTakeover, 1.5 s).
+    constexpr auto kCut = std::chrono::seconds(4);
     ASSERT_TRUE(hosts.cut(3));
     const auto cut = Clock::now();
     const std::uint64_t cut_at = frames.rbegin()->first;
     // During the cut, the others go on without worker 2.
-    while (Clock::now() - cut < std::chrono::seconds(3)) {
+    while (Clock::now() - cut < kCut) {
         seen.poll(std::chrono::milliseconds(5));
     }
     const std::uint64_t during = frames.rbegin()->first;
@@ -1834,7 +1838,7 @@ TEST(Cluster, AWorkerCutOffByItsLinkStopsPublishingAndJoinsAgainWhenTheLinkRetur
     double worst = 0.0;
     ASSERT_EQ(against_sim(frames, sim, worst), "");
     std::printf(
-        "host 3 (worker 2) cut off after frame %llu for 3 s: frames went on to %llu during the cut; the "
+        "host 3 (worker 2) cut off after frame %llu for 4 s: frames went on to %llu during the cut; the "
         "longest "
         "wait for a frame %.3f s; %zu frames seen, largest difference from lpss-sim %.3g\n",
         static_cast<unsigned long long>(cut_at), static_cast<unsigned long long>(during), pause,
