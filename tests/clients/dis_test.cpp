@@ -165,7 +165,11 @@ TEST(Dis, OpenDisDecodesTheGatewaysPdusAndTheirDeadReckoningFollowsTheWorld) {
 
     double worst_at_send = 0.0, worst_reckoned = 0.0, worst_angle = 0.0;
     std::size_t resting = 0;
-    for (const auto& [entity, received] : by_entity) {
+    // Named, not bound: the lambda below reads the entity, and a C++17 lambda cannot capture a structured
+    // binding (clang refuses it).
+    for (const auto& entity_pdus : by_entity) {
+        const auto entity = entity_pdus.first;
+        const auto& received = entity_pdus.second;
         ASSERT_FALSE(received.empty());
         EXPECT_EQ(received.front().marking, names[entity]);
         const bool at_rest = [&] {

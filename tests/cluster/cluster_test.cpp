@@ -1000,10 +1000,16 @@ TEST(Cluster, AWorldFarLargerThanAnyHaloRunsWithEachWorkerHoldingItsShare) {
     const double near_reach = scene.settings.hysteresis * scene.settings.sector_size + 2.5;
     const std::size_t balls = 300;
     std::uint64_t owned = 0;
-    for (const auto& [worker, m] : check.last_marks) {
+    // Named, not bound: the lambda below reads the worker and the key, and a C++17 lambda cannot capture a
+    // structured binding (clang refuses it).
+    for (const auto& worker_marks : check.last_marks) {
+        const std::uint32_t worker = worker_marks.first;
+        const auto& m = worker_marks.second;
         owned += m.bodies();
         std::size_t next_to_own = 0, near_own = 0;
-        for (const auto& [key, bodies] : check.sectors()) {
+        for (const auto& sector : check.sectors()) {
+            const SectorKey& key = sector.first;
+            const auto& bodies = sector.second;
             if (own[worker].count(key)) continue;
             bool adjacent = false;
             for (const SectorKey& mine : own[worker])
