@@ -39,7 +39,8 @@ public:
     bool none_alive() const { return heard_any_ && none_counted(); }
     /// How long a standby may take to take over, counted from a worker's confirmed lapse of the coordinator:
     /// the standby confirms the same lapse within its grace (450 ms at most, ConfirmedLapses), then writes
-    /// its first frame start. A cut-off worker learns it that much later; it publishes nothing meanwhile.
+    /// its first frame start. A cut-off worker learns it that much later, and publishes no degraded frame
+    /// meanwhile (worker.cpp).
     static constexpr std::chrono::milliseconds kTakeover{1500};
     /// The latest liveliness news, for the log ("none" if there is none).
     std::string history() const;
