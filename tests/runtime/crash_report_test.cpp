@@ -37,7 +37,12 @@ void read_a_page_past_its_file(const std::string& path) {
 TEST(CrashReport, ASigbusOnAMappedFileNamesTheSignalItsCodeTheFileAndTheStack) {
     if (handled_already(SIGBUS)) GTEST_SKIP() << "SIGBUS is handled already here (a sanitizer's handler)";
     testing::GTEST_FLAG(death_test_style) = "threadsafe";
-    const std::string path = ::testing::TempDir() + "lpss_crash_report_" + std::to_string(getpid());
+    // The "threadsafe" style runs this body again in a new process: the file it makes there is named by the
+    // parent's pid, passed down in the environment (setenv does not replace it there), so that the parent
+    // removes it. Named by each process's own pid, the child's file was left in the temp folder.
+    setenv("LPSS_CRASH_TEST_FILE",
+           (::testing::TempDir() + "lpss_crash_report_" + std::to_string(getpid())).c_str(), 0);
+    const std::string path = std::getenv("LPSS_CRASH_TEST_FILE");
     EXPECT_EXIT(
         {
             runtime::install_crash_report("crash-test");
@@ -48,6 +53,7 @@ TEST(CrashReport, ASigbusOnAMappedFileNamesTheSignalItsCodeTheFileAndTheStack) {
         "  in the mapping: [0-9a-f]+-[0-9a-f]+ r..s .*lpss_crash_report_[0-9]+\n"
         "  stack .*\n.*\\(\\+0x[0-9a-f]+\\)");
     std::remove(path.c_str());
+    unsetenv("LPSS_CRASH_TEST_FILE");
 }
 
 TEST(CrashReport, AnAbortSaysItWasRaisedByTheProcessAndEndsAsAnAbort) {
