@@ -141,7 +141,10 @@ function launchChromium() {
     '--disable-dev-shm-usage', '--disable-background-timer-throttling', '--disable-renderer-backgrounding',
     '--disable-backgrounding-occluded-windows', 'about:blank',
   ];
-  chrome = spawn(opts.chromium, args, { detached: true, stdio: ['ignore', 'ignore', 'pipe'] });
+  // Its temporary files under the profile too: killed, chromium leaves behind the folder of its singleton
+  // socket (org.chromium.Chromium.*), two or three in /tmp at every run of the suite, made in TMPDIR.
+  chrome = spawn(opts.chromium, args,
+    { detached: true, stdio: ['ignore', 'ignore', 'pipe'], env: { ...process.env, TMPDIR: profileDir } });
   chrome.on('exit', () => { chromeExited = true; });
   return new Promise((resolve, reject) => {
     let buf = '';
