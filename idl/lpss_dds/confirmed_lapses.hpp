@@ -15,6 +15,8 @@
 #include <map>
 #include <vector>
 
+#include "lpss_dds/wall_clock.hpp"
+
 namespace lpss::dds {
 
 template <class Key>
@@ -38,10 +40,7 @@ public:
         const bool correlated = reported_any_ && now - last_report_ < correlated_within_;
         reported_any_ = true;
         last_report_ = now;
-        const auto wall = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                              std::chrono::system_clock::now().time_since_epoch())
-                              .count();
-        suspected_.emplace(key, Suspicion{now + (correlated ? correlated_grace_ : grace_), wall});
+        suspected_.emplace(key, Suspicion{now + (correlated ? correlated_grace_ : grace_), wall_clock_ns()});
     }
     /// Data the writer wrote (its DDS source timestamp, system clock ns): written after it was suspected, it
     /// shows the writer alive, should DDS's liveliness not say so in time (seen: a standby thawed from

@@ -14,6 +14,7 @@
 #include "lpss_dds/convert.hpp"
 #include "lpss_dds/security.hpp"
 #include "lpss_dds/topics.hpp"
+#include "lpss_dds/wall_clock.hpp"
 #include "realtime_pacer.hpp"
 
 namespace lpss::coordinator {
@@ -341,11 +342,7 @@ void Coordinator::State::pump(bool with_samples) {
         auto running = running_writer.find(w);
         if (running != running_writer.end() && running->second != writer) continue;  // not the one running
         lost.insert(w);
-        lost_since[w] = Lapse{writer,
-                              std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                  std::chrono::system_clock::now().time_since_epoch())
-                                  .count(),
-                              frame};
+        lost_since[w] = Lapse{writer, dds::wall_clock_ns(), frame};
         spdlog::warn("coordinator: worker {} missed its liveliness lease", w);
     }
 }
@@ -588,9 +585,7 @@ int Coordinator::run(const std::atomic<bool>& stop) {
                 }
             }
             if (o.realtime) pacer.pace(f);
-            go.started_ns(static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                         std::chrono::system_clock::now().time_since_epoch())
-                                                         .count()));
+            go.started_ns(static_cast<std::uint64_t>(dds::wall_clock_ns()));
             go.time_lost(pacer.lost());
             s.go_out->write(go);
             s.last_go = go;

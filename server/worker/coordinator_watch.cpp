@@ -6,12 +6,6 @@
 
 namespace lpss::worker {
 
-std::int64_t CoordinatorWatch::wall_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
-
 void CoordinatorWatch::note(const dds::fdds::InstanceHandle_t& writer, const char* what,
                             std::int32_t alive_count) {
     auto known = std::find(writers_.begin(), writers_.end(), writer);
@@ -40,7 +34,7 @@ void CoordinatorWatch::follow(const std::vector<dds::Inbox::Liveliness>& changes
     for (const dds::fdds::InstanceHandle_t& writer : lapses_.confirmed(now)) {
         note(writer, "lapse confirmed", alive_count_);
         alive_.erase(writer);
-        lapsed_at_ns_[writer] = wall_ns();
+        lapsed_at_ns_[writer] = dds::wall_clock_ns();
     }
     if (!none_before && none_counted()) none_alive_since_ = now;
 }

@@ -17,12 +17,13 @@
 
 #include "lpss_dds/confirmed_lapses.hpp"
 #include "lpss_dds/participant.hpp"
+#include "lpss_dds/wall_clock.hpp"
 
 namespace lpss::worker {
 
 class CoordinatorWatch {
 public:
-    explicit CoordinatorWatch(std::uint32_t worker) : worker_(worker), began_ns_(wall_ns()) {}
+    explicit CoordinatorWatch(std::uint32_t worker) : worker_(worker), began_ns_(dds::wall_clock_ns()) {}
 
     /// The liveliness changes the frame start reader reported since the last call, in order.
     void follow(const std::vector<dds::Inbox::Liveliness>& changes);
@@ -48,8 +49,6 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     void note(const dds::fdds::InstanceHandle_t& writer, const char* what, std::int32_t alive_count);
-    /// The system clock (ns), as DDS source timestamps.
-    static std::int64_t wall_ns();
     /// Neither the set nor the reader's count has a writer alive (a count the race below left one short
     /// goes below zero when the last writer lapses).
     bool none_counted() const { return alive_.empty() && alive_count_ <= 0; }

@@ -39,16 +39,11 @@ TEST(ConfirmedLapses, ALapseReportedRightAfterAnotherIsGivenTheLongerGrace) {
 TEST(ConfirmedLapses, DataWrittenAfterTheReportShowsTheWriterAlive) {
     ConfirmedLapses<int> lapses(milliseconds(150), milliseconds(450), milliseconds(25));
     const Clock::time_point t0 = Clock::now();
-    const auto wall = [] {
-        return std::chrono::duration_cast<std::chrono::nanoseconds>(
-                   std::chrono::system_clock::now().time_since_epoch())
-            .count();
-    };
-    const std::int64_t before = wall() - 1'000'000;
+    const std::int64_t before = wall_clock_ns() - 1'000'000;
     lapses.reported(1, false, t0);
     lapses.reported(2, false, t0 + milliseconds(100));
     lapses.heard(1, before);  // written before the lapse: says nothing
-    lapses.heard(2, wall() + 1'000'000);
+    lapses.heard(2, wall_clock_ns() + 1'000'000);
     EXPECT_EQ(lapses.confirmed(t0 + milliseconds(1000)), std::vector<int>{1});
 }
 

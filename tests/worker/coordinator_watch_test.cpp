@@ -31,11 +31,7 @@ dds::Inbox::Liveliness change(std::uint8_t n, bool alive, std::int32_t alive_cou
 /// Longer than any grace a lapse gets (ConfirmedLapses: 150 ms, or 450 ms for one beside another's).
 void past_grace() { std::this_thread::sleep_for(std::chrono::milliseconds(600)); }
 
-std::int64_t wall_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
+using dds::wall_clock_ns;
 
 TEST(CoordinatorWatch, IsNotCutOffBeforeAnyCoordinatorWasHeard) {
     CoordinatorWatch watch(1);
@@ -70,7 +66,7 @@ TEST(CoordinatorWatch, AWriterComingBackAliveWithinItsGraceIsNotALapse) {
 TEST(CoordinatorWatch, AFrameStartWrittenAfterTheLapseShowsTheWriterAlive) {
     CoordinatorWatch watch(1);
     watch.follow({change(1, true, 1), change(1, false, 0)});
-    watch.heard(writer(1), wall_ns() + 1'000'000);
+    watch.heard(writer(1), wall_clock_ns() + 1'000'000);
     past_grace();
     watch.follow({});
     EXPECT_FALSE(watch.cut_off());
@@ -113,7 +109,7 @@ TEST(CoordinatorWatch, WithAStandbyFollowingNoneAliveCutsOffOnlyOnceItsTimeToTak
     EXPECT_TRUE(watch.none_alive());
     EXPECT_FALSE(watch.cut_off()) << "within the standby's time to take over";
     // A frame start written before the lapse (the dead coordinator's, late) shows no one alive.
-    watch.heard(writer(1), wall_ns() - 5'000'000'000);
+    watch.heard(writer(1), wall_clock_ns() - 5'000'000'000);
     EXPECT_TRUE(watch.none_alive());
     std::this_thread::sleep_for(CoordinatorWatch::kTakeover);
     watch.follow({});
@@ -124,7 +120,7 @@ TEST(CoordinatorWatch, AStandbyTakingOverUnreportedIsHeardByItsFrameStartsAndIts
     CoordinatorWatch watch = lapsed_alone(true);
     ASSERT_TRUE(watch.none_alive());
     // The standby takes over: its first frame start comes, its liveliness says nothing (alive all along).
-    watch.heard(writer(2), wall_ns() + 1'000'000);
+    watch.heard(writer(2), wall_clock_ns() + 1'000'000);
     EXPECT_FALSE(watch.none_alive());
     EXPECT_NE(watch.history().find("writer 2 heard writing"), std::string::npos) << watch.history();
     // Its frames name no standby; when it lapses in turn, the reader's count (one short) goes below zero.
@@ -143,7 +139,7 @@ TEST(CoordinatorWatch, AStandbysFrameStartThatComesBeforeTheLapseIsConfirmedCoun
     watch.follow({change(1, true, 1)});
     watch.standby_follows(true);
     watch.follow({change(1, false, 0)});
-    watch.heard(writer(2), wall_ns() + 1'000'000);
+    watch.heard(writer(2), wall_clock_ns() + 1'000'000);
     watch.standby_follows(false);  // the standby's starts name no standby
     past_grace();
     watch.follow({});
@@ -156,7 +152,7 @@ TEST(CoordinatorWatch, FrameStartsWrittenBeforeTheWatchBeganAreHistory) {
     // A worker that joins reads the frame starts a writer keeps: they show no coordinator alive now.
     CoordinatorWatch watch(1);
     watch.follow({change(1, true, 1)});
-    watch.heard(writer(2), wall_ns() - 5'000'000'000);
+    watch.heard(writer(2), wall_clock_ns() - 5'000'000'000);
     watch.follow({change(1, false, 0)});
     past_grace();
     watch.follow({});
